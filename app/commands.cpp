@@ -1,0 +1,12 @@
+// The one list of sub-commands. Adding a command is one file plus one line here.
+#include "app/command.hpp"
+
+namespace st::app {
+
+void addCameraCommand(CLI::App& root, CommandRun& run);
+
+void addAllCommands(CLI::App& root, CommandRun& run) {
+  addCameraCommand(root, run);
+}
+
+}  // namespace st::app

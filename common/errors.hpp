@@ -1,0 +1,27 @@
+/// @file errors.hpp
+/// The three kinds of failure (see STYLE-EXAMPLES.md §7):
+///  - bugs: assert;
+///  - bad configuration or input (file, key, value): throw InputError at the I/O edge; the
+///    CLI turns it into exit code 2;
+///  - a processing failure on valid input (an image that cannot be solved): library code
+///    returns a status; the CLI exits 1. ProcessingError exists for the rare case where a
+///    library cannot return one (e.g. a rawlog that breaks half way).
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace st {
+
+/// Bad input or configuration. The message must name the file, key or value.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Valid input that could not be processed.
+class ProcessingError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace st

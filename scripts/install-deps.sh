@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs every build/run/test dependency from Debian 12 packages. Idempotent.
+# MRPT component packages only: the libmrpt-dev metapackage drags in ROS1, Qt and VTK.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+PKGS=(
+  build-essential cmake pkg-config git
+  libmrpt-obs-dev libmrpt-hwdrivers-dev libmrpt-bayes-dev libmrpt-gui-dev
+  mrpt-apps
+  libopencv-dev libeigen3-dev
+  libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libcfitsio-dev zlib1g-dev
+  gnuplot-nox
+  xvfb xauth
+)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PKGS[@]} packages already installed"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update
+$SUDO apt-get install -y --no-install-recommends "${missing[@]}"

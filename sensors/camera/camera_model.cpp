@@ -1,0 +1,269 @@
+#include "sensors/camera/camera_model.hpp"
+
+#include <mrpt/config/CConfigFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <sstream>
+#include <vector>
+
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+
+namespace st {
+
+CameraModel::CameraModel(int width, int height, double fx, double fy, double cx, double cy,
+                         Distortion dist)
+    : width_(width), height_(height), fx_(fx), fy_(fy), cx_(cx), cy_(cy), dist_(dist) {
+  validate("camera model");
+}
+
+void CameraModel::validate(const std::string& source) const {
+  auto bad = [&](const std::string& what) { throw InputError(source + ": " + what); };
+  if (width_ <= 0 || height_ <= 0)
+    bad("image size must be positive, got " + std::to_string(width_) + "x" +
+        std::to_string(height_));
+  if (!(fx_ > 0) || !(fy_ > 0) || !std::isfinite(fx_) || !std::isfinite(fy_))
+    bad("focal lengths must be positive and finite, got fx=" + std::to_string(fx_) +
+        " fy=" + std::to_string(fy_));
+  if (!std::isfinite(cx_) || !std::isfinite(cy_)) bad("principal point must be finite");
+  for (double k : {dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3})
+    if (!std::isfinite(k)) bad("distortion coefficients must be finite");
+}
+
+CameraModel CameraModel::fromFov(int width, int height, double hfov) {
+  if (!(hfov > 0) || !(hfov < kPi))
+    throw InputError("field of view must be in (0, 180) deg, got " +
+                     std::to_string(rad2deg(hfov)) + " deg");
+  const double f = 0.5 * width / std::tan(0.5 * hfov);
+  return CameraModel(width, height, f, f, 0.5 * (width - 1), 0.5 * (height - 1));
+}
+
+// OpenCV's distortion model (cv::projectPoints documentation).
+Vec2 CameraModel::distortNormalised(const Vec2& xy) const {
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1 + r2 * (dist_.k1 + r2 * (dist_.k2 + r2 * dist_.k3));
+  return {x * radial + 2 * dist_.p1 * x * y + dist_.p2 * (r2 + 2 * x * x),
+          y * radial + dist_.p1 * (r2 + 2 * y * y) + 2 * dist_.p2 * x * y};
+}
+
+namespace {
+Mat2 distortionJacobian(const Distortion& d, const Vec2& xy) {
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+  const double dradial = d.k1 + 2 * d.k2 * r2 + 3 * d.k3 * r2 * r2;  // d(radial)/d(r2)
+  Mat2 J;
+  J(0, 0) = radial + 2 * x * x * dradial + 2 * d.p1 * y + 6 * d.p2 * x;
+  J(0, 1) = 2 * x * y * dradial + 2 * d.p1 * x + 2 * d.p2 * y;
+  J(1, 0) = 2 * x * y * dradial + 2 * d.p1 * x + 2 * d.p2 * y;
+  J(1, 1) = radial + 2 * y * y * dradial + 6 * d.p1 * y + 2 * d.p2 * x;
+  return J;
+}
+}  // namespace
+
+Vec2 CameraModel::undistortNormalised(const Vec2& xy_d) const {
+  if (dist_.isZero()) return xy_d;
+  // Newton's method on distort(xy) = xy_d, starting from the distorted point; the map is
+  // close to the identity for real lenses, so this converges in a few steps.
+  Vec2 xy = xy_d;
+  for (int it = 0; it < 50; ++it) {
+    const Vec2 r = distortNormalised(xy) - xy_d;
+    if (r.norm() < 1e-15) break;
+    xy -= distortionJacobian(dist_, xy).lu().solve(r);
+  }
+  return xy;
+}
+
+Vec3 CameraModel::pixelToVector(const Vec2& px) const {
+  const Vec2 xy_d((px.x() - cx_) / fx_, (px.y() - cy_) / fy_);
+  const Vec2 xy = undistortNormalised(xy_d);
+  return Vec3(xy.x(), xy.y(), 1.0).normalized();
+}
+
+std::optional<Vec2> CameraModel::vectorToPixel(const Vec3& v_cam) const {
+  if (!(v_cam.z() > 0)) return std::nullopt;
+  const Vec2 xy_d = distortNormalised(Vec2(v_cam.x() / v_cam.z(), v_cam.y() / v_cam.z()));
+  return Vec2(fx_ * xy_d.x() + cx_, fy_ * xy_d.y() + cy_);
+}
+
+Mat2 CameraModel::pixelJacobian(const Vec3& v_cam) const {
+  const Vec2 xy(v_cam.x() / v_cam.z(), v_cam.y() / v_cam.z());
+  return Eigen::Vector2d(fx_, fy_).asDiagonal() * distortionJacobian(dist_, xy);
+}
+
+bool CameraModel::isPixelInImage(const Vec2& px, double margin_px) const {
+  return px.x() >= -0.5 + margin_px && px.x() <= width_ - 0.5 - margin_px &&
+         px.y() >= -0.5 + margin_px && px.y() <= height_ - 0.5 - margin_px;
+}
+
+bool CameraModel::isVectorInImage(const Vec3& v_cam, double margin_px) const {
+  const auto px = vectorToPixel(v_cam);
+  return px && isPixelInImage(*px, margin_px);
+}
+
+std::array<Vec3, 4> CameraModel::cornerVectors() const {
+  const double l = -0.5, r = width_ - 0.5, t = -0.5, b = height_ - 0.5;
+  return {pixelToVector({l, t}), pixelToVector({r, t}), pixelToVector({r, b}),
+          pixelToVector({l, b})};
+}
+
+double CameraModel::horizontalFov() const {
+  const Vec3 a = pixelToVector({-0.5, cy_}), b = pixelToVector({width_ - 0.5, cy_});
+  return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+}
+
+double CameraModel::verticalFov() const {
+  const Vec3 a = pixelToVector({cx_, -0.5}), b = pixelToVector({cx_, height_ - 0.5});
+  return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+}
+
+double CameraModel::halfDiagonalFov() const {
+  double best = 0;
+  for (const Vec3& c : cornerVectors()) best = std::max(best, std::acos(std::clamp(c.z(), -1.0, 1.0)));
+  return best;
+}
+
+std::string CameraModel::describe() const {
+  std::ostringstream os;
+  os.precision(10);
+  os << width_ << "x" << height_ << " px, fx=" << fx_ << " fy=" << fy_ << " cx=" << cx_
+     << " cy=" << cy_ << ", dist=[" << dist_.k1 << " " << dist_.k2 << " " << dist_.p1 << " "
+     << dist_.p2 << " " << dist_.k3 << "]";
+  os.precision(4);
+  os << ", FOV " << rad2deg(horizontalFov()) << " x " << rad2deg(verticalFov()) << " deg";
+  return os.str();
+}
+
+// ---- files --------------------------------------------------------------------------
+
+namespace {
+void requireFile(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path + ": camera file does not exist");
+  if (std::filesystem::is_directory(path))
+    throw InputError(path + ": camera file is a directory");
+}
+
+Distortion distortionFromVector(const std::vector<double>& d, const std::string& where) {
+  if (d.size() < 4)
+    throw InputError(where + ": distortion coefficients need at least 4 values (k1 k2 p1 p2 [k3]), got " +
+                     std::to_string(d.size()));
+  for (std::size_t i = 5; i < d.size(); ++i)
+    if (d[i] != 0)
+      throw InputError(where + ": only the 5-term model (k1 k2 p1 p2 k3) is supported; term " +
+                       std::to_string(i) + " is non-zero");
+  Distortion dist{d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0};
+  return dist;
+}
+}  // namespace
+
+CameraModel CameraModel::loadYaml(const std::string& path) {
+  requireFile(path);
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": not a readable OpenCV YAML/XML camera file (" + e.err + ")");
+  }
+  if (!fs.isOpened()) throw InputError(path + ": cannot open camera file");
+  auto need = [&](const char* key) {
+    cv::FileNode n = fs[key];
+    if (n.empty()) throw InputError(path + ": missing key '" + key + "'");
+    return n;
+  };
+  cv::Mat K, D;
+  int w = 0, h = 0;
+  try {
+    need("camera_matrix") >> K;
+    need("distortion_coefficients") >> D;
+    w = static_cast<int>(need("image_width"));
+    h = static_cast<int>(need("image_height"));
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": malformed camera file (" + e.err + ")");
+  }
+  if (K.rows != 3 || K.cols != 3)
+    throw InputError(path + ": key 'camera_matrix' must be a 3x3 matrix");
+  K.convertTo(K, CV_64F);
+  D.convertTo(D, CV_64F);
+  std::vector<double> d(D.begin<double>(), D.end<double>());
+  CameraModel cam;
+  cam.width_ = w;
+  cam.height_ = h;
+  cam.fx_ = K.at<double>(0, 0);
+  cam.fy_ = K.at<double>(1, 1);
+  cam.cx_ = K.at<double>(0, 2);
+  cam.cy_ = K.at<double>(1, 2);
+  cam.dist_ = distortionFromVector(d, path + ": key 'distortion_coefficients'");
+  cam.validate(path);
+  return cam;
+}
+
+void CameraModel::saveYaml(const std::string& path) const {
+  cv::FileStorage fs(path, cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError(path + ": cannot write camera file");
+  cv::Mat K = (cv::Mat_<double>(3, 3) << fx_, 0, cx_, 0, fy_, cy_, 0, 0, 1);
+  cv::Mat D = (cv::Mat_<double>(1, 5) << dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
+  fs << "image_width" << width_ << "image_height" << height_ << "camera_matrix" << K
+     << "distortion_coefficients" << D;
+}
+
+namespace {
+std::vector<double> parseNumberList(const std::string& text, const std::string& where) {
+  std::string s = text;
+  for (char& c : s)
+    if (c == '[' || c == ']' || c == ',' || c == ';') c = ' ';
+  std::istringstream is(s);
+  std::vector<double> out;
+  std::string tok;
+  while (is >> tok) {
+    try {
+      std::size_t used = 0;
+      out.push_back(std::stod(tok, &used));
+      if (used != tok.size()) throw std::invalid_argument(tok);
+    } catch (const std::exception&) {
+      throw InputError(where + ": '" + tok + "' is not a number");
+    }
+  }
+  return out;
+}
+}  // namespace
+
+CameraModel CameraModel::loadIni(const mrpt::config::CConfigFileBase& cfg,
+                                 const std::string& section, const std::string& source_name) {
+  const std::string where = source_name + " [" + section + "]";
+  auto need = [&](const std::string& key) {
+    if (!cfg.keyExists(section, key)) throw InputError(where + ": missing key '" + key + "'");
+    return cfg.read_string(section, key, "");
+  };
+  auto number = [&](const std::string& key) {
+    const auto v = parseNumberList(need(key), where + " key '" + key + "'");
+    if (v.size() != 1) throw InputError(where + ": key '" + key + "' must be one number");
+    return v[0];
+  };
+  const auto res = parseNumberList(need("resolution"), where + " key 'resolution'");
+  if (res.size() != 2) throw InputError(where + ": key 'resolution' must be [width height]");
+  CameraModel cam;
+  cam.width_ = static_cast<int>(res[0]);
+  cam.height_ = static_cast<int>(res[1]);
+  cam.fx_ = number("fx");
+  cam.fy_ = number("fy");
+  cam.cx_ = number("cx");
+  cam.cy_ = number("cy");
+  if (cfg.keyExists(section, "dist"))
+    cam.dist_ = distortionFromVector(parseNumberList(cfg.read_string(section, "dist", ""), where),
+                                     where + " key 'dist'");
+  cam.validate(where);
+  return cam;
+}
+
+CameraModel CameraModel::loadIniFile(const std::string& path, const std::string& section) {
+  requireFile(path);
+  mrpt::config::CConfigFile cfg(path);
+  if (!cfg.sectionExists(section)) throw InputError(path + ": missing section [" + section + "]");
+  return loadIni(cfg, section, path);
+}
+
+}  // namespace st

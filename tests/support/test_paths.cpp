@@ -1,0 +1,44 @@
+#include "tests/support/test_paths.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace st::test {
+
+std::string repoDir() { return ST_REPO_DIR; }
+
+std::string sharedDataDir() {
+  if (const char* env = std::getenv("ST_SHARED_DATA_DIR")) return env;
+  return ST_SHARED_DATA_DIR;
+}
+
+std::string hipparcosSubsetPath() { return repoDir() + "/catalog/data/hip_main_v6.6.dat.gz"; }
+
+std::string tetra3ImageDir() { return sharedDataDir() + "/images/tetra3"; }
+
+std::string makeTempDir(const std::string& tag) {
+  namespace fs = std::filesystem;
+  std::string templ = (fs::temp_directory_path() / ("st_" + tag + "_XXXXXX")).string();
+  if (!mkdtemp(templ.data())) return (fs::temp_directory_path() / ("st_" + tag)).string();
+  return templ;
+}
+
+std::string startrackerExe() { return ST_STARTRACKER_EXE_PATH; }
+
+int runCommand(const std::string& cmd, std::string* output) {
+  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buf{};
+  std::string out;
+  while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pclose(pipe);
+  if (output) *output = out;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace st::test

@@ -1,0 +1,24 @@
+/// @file test_paths.hpp
+/// Where tests find data: the repository, the shared real data, the startracker binary.
+#pragma once
+#include <string>
+
+namespace st::test {
+
+/// Repository root (absolute).
+std::string repoDir();
+/// ../shared/data (real catalogs and images); override with env ST_SHARED_DATA_DIR.
+std::string sharedDataDir();
+/// The committed Hipparcos subset in catalog/data/.
+std::string hipparcosSubsetPath();
+/// The eight real tetra3 frames.
+std::string tetra3ImageDir();
+/// A fresh empty temporary directory for one test (removed by the OS, not by the test).
+std::string makeTempDir(const std::string& tag);
+/// Path of the built `startracker` executable (for end-to-end tests).
+std::string startrackerExe();
+
+/// Runs a shell command, returns its exit code; stdout+stderr go to `output`.
+int runCommand(const std::string& cmd, std::string* output = nullptr);
+
+}  // namespace st::test
