@@ -1,6 +1,7 @@
 #include "sensors/camera/camera_model.hpp"
 
 #include <mrpt/config/CConfigFile.h>
+#include <mrpt/img/TCamera.h>
 
 #include <algorithm>
 #include <cmath>
@@ -264,6 +265,21 @@ CameraModel CameraModel::loadIniFile(const std::string& path, const std::string&
   mrpt::config::CConfigFile cfg(path);
   if (!cfg.sectionExists(section)) throw InputError(path + ": missing section [" + section + "]");
   return loadIni(cfg, section, path);
+}
+
+CameraModel CameraModel::fromTCamera(const mrpt::img::TCamera& c) {
+  CameraModel cam(static_cast<int>(c.ncols), static_cast<int>(c.nrows), c.fx(), c.fy(), c.cx(),
+                  c.cy(), Distortion{c.k1(), c.k2(), c.p1(), c.p2(), c.k3()});
+  return cam;
+}
+
+mrpt::img::TCamera CameraModel::toTCamera() const {
+  mrpt::img::TCamera c;
+  c.ncols = static_cast<uint32_t>(width_);
+  c.nrows = static_cast<uint32_t>(height_);
+  c.setIntrinsicParamsFromValues(fx_, fy_, cx_, cy_);
+  c.setDistortionParamsFromValues(dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
+  return c;
 }
 
 }  // namespace st

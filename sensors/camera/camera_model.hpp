@@ -14,6 +14,9 @@
 namespace mrpt::config {
 class CConfigFileBase;
 }
+namespace mrpt::img {
+class TCamera;
+}
 
 namespace st {
 
@@ -45,6 +48,10 @@ class CameraModel {
   static CameraModel loadIni(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                              const std::string& source_name = "ini");
   static CameraModel loadIniFile(const std::string& path, const std::string& section);
+
+  /// MRPT's camera parameters (CObservationImage::cameraParams carries them in rawlogs).
+  static CameraModel fromTCamera(const mrpt::img::TCamera& cam);
+  mrpt::img::TCamera toTCamera() const;
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -128,3 +128,14 @@ TEST(CameraModel, MrptIniSection) {
 
 }  // namespace
 }  // namespace st
+
+#include <mrpt/img/TCamera.h>
+namespace st {
+namespace {
+TEST(CameraModel, MrptTCameraRoundTrip) {
+  const CameraModel cam(1024, 768, 2950.0, 2948.0, 515.3, 380.7, Distortion{-0.1, 0.05, 1e-4, 2e-4, 0.01});
+  const CameraModel back = CameraModel::fromTCamera(cam.toTCamera());
+  EXPECT_EQ(back.describe(), cam.describe());
+}
+}  // namespace
+}  // namespace st
