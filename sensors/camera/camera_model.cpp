@@ -278,7 +278,7 @@ mrpt::img::TCamera CameraModel::toTCamera() const {
   c.ncols = static_cast<uint32_t>(width_);
   c.nrows = static_cast<uint32_t>(height_);
   c.setIntrinsicParamsFromValues(fx_, fy_, cx_, cy_);
-  c.setDistortionParamsFromValues(dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
+  c.setDistortionPlumbBob(dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
   return c;
 }
 
