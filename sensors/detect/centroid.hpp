@@ -1,0 +1,31 @@
+/// @file centroid.hpp
+/// One detected star on the image: its position with a covariance from the noise model, its
+/// brightness and quality flags. Produced by detection (star_detector.hpp), consumed by
+/// identification and tracking as weighted observations.
+#pragma once
+#include <cstdint>
+
+#include "common/attitude.hpp"
+
+namespace st {
+
+/// Quality flags of a centroid (bit set). Flagged stars are kept unless the detector options
+/// ask to reject them, so that downstream stages can decide (e.g. streaks during a slew).
+enum CentroidFlag : uint32_t {
+  kSaturated = 1,     ///< at least one pixel at the saturation level: position less reliable
+  kTouchesEdge = 2,   ///< the blob touches the image border: light lost, position biased
+  kElongated = 4,     ///< second moments far from round: streak, double star or artefact
+  kHotPixel = 8,      ///< a single bright pixel with dark neighbours (not PSF-like)
+};
+
+struct Centroid {
+  Vec2 px = Vec2::Zero();      ///< [px] position, conventions.hpp pixel convention
+  Mat2 cov_px = Mat2::Zero();  ///< [px^2] covariance from the noise model
+  double flux = 0;             ///< background-subtracted sum [ADU]
+  double peak = 0;             ///< max pixel above background [ADU]
+  double snr = 0;              ///< flux / its 1-sigma noise
+  int area = 0;                ///< pixels in the blob
+  uint32_t flags = 0;          ///< CentroidFlag bits
+};
+
+}  // namespace st
