@@ -12,7 +12,7 @@ PKGS=(
   libopencv-dev libeigen3-dev
   libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   libcfitsio-dev zlib1g-dev
-  gnuplot-nox
+  gnuplot-nox python3
   xvfb xauth
 )
 missing=()
