@@ -1,0 +1,108 @@
+#include "sensors/detect/background.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace st {
+namespace {
+
+// Regular subsample of roughly `n` pixels of the ROI (a strided grid, deterministic).
+template <typename T>
+void sample(const cv::Mat& roi, int n, std::vector<float>& out) {
+  out.clear();
+  const double area = static_cast<double>(roi.rows) * roi.cols;
+  const int stride = std::max(1, static_cast<int>(std::sqrt(area / std::max(n, 1))));
+  // Offset odd rows by half a stride so columns are not always the same.
+  for (int r = stride / 2; r < roi.rows; r += stride) {
+    const T* row = roi.ptr<T>(r);
+    for (int c = ((r / stride) & 1) ? stride / 2 : 0; c < roi.cols; c += stride)
+      out.push_back(static_cast<float>(row[c]));
+  }
+  if (out.empty()) out.push_back(static_cast<float>(roi.at<T>(0, 0)));
+}
+
+void sampleAny(const cv::Mat& roi, int n, std::vector<float>& out) {
+  if (roi.depth() == CV_8U)
+    sample<uint8_t>(roi, n, out);
+  else
+    sample<uint16_t>(roi, n, out);
+}
+
+double bilinear(const BackgroundModel& m, const std::vector<float>& t, double x, double y) {
+  // Tile centres at (k + 0.5) * tile - 0.5; clamp outside the outer centres.
+  const double fx = std::clamp((x + 0.5) / m.tile - 0.5, 0.0, m.tiles_x - 1.0);
+  const double fy = std::clamp((y + 0.5) / m.tile - 0.5, 0.0, m.tiles_y - 1.0);
+  const int x0 = std::min(static_cast<int>(fx), m.tiles_x - 1);
+  const int y0 = std::min(static_cast<int>(fy), m.tiles_y - 1);
+  const int x1 = std::min(x0 + 1, m.tiles_x - 1), y1 = std::min(y0 + 1, m.tiles_y - 1);
+  const double ax = fx - x0, ay = fy - y0;
+  auto at = [&](int i, int j) { return static_cast<double>(t[static_cast<std::size_t>(j * m.tiles_x + i)]); };
+  return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) +
+         ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+}
+
+}  // namespace
+
+void robustLevelSigma(std::vector<float>& v, double& level, double& sigma) {
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  const float med = v[mid];
+  level = med;
+  for (float& x : v) x = std::abs(x - med);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  sigma = 1.4826 * v[mid];
+  if (sigma <= 0) {
+    // Quantised flat data: RMS of the deviations below the 90th percentile.
+    const std::size_t q = std::min(v.size() - 1, v.size() * 9 / 10);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(q), v.end());
+    double s2 = 0;
+    for (std::size_t k = 0; k <= q; ++k) s2 += static_cast<double>(v[k]) * v[k];
+    sigma = std::sqrt(s2 / static_cast<double>(q + 1));
+  }
+}
+
+double BackgroundModel::levelAt(double x, double y) const {
+  return tile > 0 ? bilinear(*this, tile_level, x, y) : level;
+}
+double BackgroundModel::sigmaAt(double x, double y) const {
+  return tile > 0 ? bilinear(*this, tile_sigma, x, y) : sigma;
+}
+
+BackgroundModel estimateBackground(const cv::Mat& image, int tile, int samples,
+                                   double sigma_floor) {
+  CV_Assert(image.channels() == 1 && (image.depth() == CV_8U || image.depth() == CV_16U));
+  const double floor = std::max(sigma_floor, 0.3);
+  BackgroundModel m;
+  thread_local std::vector<float> buf;
+  if (tile <= 0 || (tile >= image.cols && tile >= image.rows)) {
+    sampleAny(image, samples * 16, buf);
+    robustLevelSigma(buf, m.level, m.sigma);
+    m.sigma = std::max(m.sigma, floor);
+    return m;
+  }
+  m.tile = tile;
+  m.tiles_x = (image.cols + tile - 1) / tile;
+  m.tiles_y = (image.rows + tile - 1) / tile;
+  m.tile_level.resize(static_cast<std::size_t>(m.tiles_x * m.tiles_y));
+  m.tile_sigma.resize(m.tile_level.size());
+  for (int ty = 0; ty < m.tiles_y; ++ty)
+    for (int tx = 0; tx < m.tiles_x; ++tx) {
+      const cv::Rect r(tx * tile, ty * tile, std::min(tile, image.cols - tx * tile),
+                       std::min(tile, image.rows - ty * tile));
+      sampleAny(image(r), samples, buf);
+      double lv, sg;
+      robustLevelSigma(buf, lv, sg);
+      const std::size_t k = static_cast<std::size_t>(ty * m.tiles_x + tx);
+      m.tile_level[k] = static_cast<float>(lv);
+      m.tile_sigma[k] = static_cast<float>(std::max(sg, floor));
+    }
+  std::vector<float> tmp = m.tile_level;
+  std::nth_element(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2), tmp.end());
+  m.level = tmp[tmp.size() / 2];
+  tmp = m.tile_sigma;
+  std::nth_element(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2), tmp.end());
+  m.sigma = tmp[tmp.size() / 2];
+  return m;
+}
+
+}  // namespace st

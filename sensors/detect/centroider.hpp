@@ -1,0 +1,58 @@
+/// @file centroider.hpp
+/// The family of centroiders: given a small window of pixels around one star and the noise
+/// model, estimate the position with its covariance, the flux and the SNR.
+///   "cog"   intensity-weighted centre of gravity, background removed (seed 004 eq. 4.1/4.23)
+///   "iwc"   iterative weighted centroid: CoG with a Gaussian weight re-centred until fixed
+///   "gauss" maximum-likelihood fit of the pixel-integrated Gaussian PSF (seed 004 §4.2.2)
+/// Implementers override doCentroid(); names and help come from the one registry table in
+/// centroider_registry.cpp.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sensors/detect/centroid.hpp"
+
+namespace st {
+
+/// Pixels around one star and what is known about the noise there.
+struct StarPatch {
+  cv::Mat1f values;          ///< [ADU] raw pixel values (background not removed)
+  cv::Point origin{0, 0};    ///< image coordinates of values(0, 0)
+  double background = 0;     ///< [ADU] local background level
+  double sigma_bg = 1;       ///< [ADU] per-pixel noise without star light
+  double gain = 1;           ///< [e-/ADU]
+  double saturation = 1e30;  ///< [ADU] pixels at or above are excluded where possible
+  double psf_sigma = 1;      ///< [px] PSF sigma guess (> 0)
+  Vec2 guess = Vec2::Zero();  ///< [px] image coordinates of a first position (e.g. the peak)
+
+  /// Variance [ADU^2] of a pixel whose background-subtracted expected signal is `s`.
+  double variance(double s) const { return sigma_bg * sigma_bg + (s > 0 ? s / gain : 0.0); }
+};
+
+class Centroider {
+ public:
+  virtual ~Centroider() = default;
+  /// Fills px, cov_px, flux, peak, snr of `out` (area and flags are the caller's). Returns
+  /// false with a reason when the star cannot be measured (no flux, fit diverged, ...).
+  bool centroid(const StarPatch& patch, Centroid& out, std::string* reason = nullptr) const;
+  virtual std::string name() const = 0;
+
+  /// nullptr with a message listing the valid names if `name` is unknown.
+  static std::unique_ptr<Centroider> create(const std::string& name, std::string* error = nullptr);
+  static std::vector<std::string> names();
+  static std::string help();  ///< one line per centroider
+
+ private:
+  virtual bool doCentroid(const StarPatch& patch, Centroid& out, std::string* reason) const = 0;
+};
+
+// Members of the family (one file each), for the registry and for callers who want one
+// directly.
+std::unique_ptr<Centroider> makeCogCentroider();
+std::unique_ptr<Centroider> makeIwcCentroider();
+std::unique_ptr<Centroider> makeGaussFitCentroider();
+
+}  // namespace st

@@ -1,0 +1,61 @@
+/// @file detector_options.hpp
+/// Settings of star detection and centroiding (star_detector.hpp), with their defaults and
+/// why. Noise model (ADU): a pixel with background-subtracted signal S has variance
+///   var = sigma_bg^2 + max(S, 0) / gain
+/// where sigma_bg (read noise + sky shot noise + quantisation) is measured from the image
+/// (median absolute deviation) and never taken below read_noise_adu.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "sensors/detect/centroid.hpp"
+
+namespace st {
+
+struct DetectorOptions {
+  // --- noise model ---
+  double gain_e_per_adu = 1.0;  ///< [e-/ADU] converts signal to shot-noise variance
+  double read_noise_adu = 0.0;  ///< [ADU] floor for the measured background sigma
+  double saturation_adu = 0.0;  ///< [ADU] pixel >= this is saturated; 0 = max of the type
+
+  // --- background and threshold (seed 004 §4.1) ---
+  double threshold_sigma = 5.0;  ///< k: a pixel is a candidate if value > background + k*sigma
+  int background_tile_px = 128;  ///< tile side for the tiled median/MAD; 0 = one global value
+  int background_samples = 512;  ///< pixels sampled per tile (or globally x16): speed vs noise
+  cv::Mat dark_frame;            ///< optional dark frame, same size and type, subtracted first
+
+  /// Pre-filter of seed 004 §4.1 / §4.2.2, meant for low thresholds (k ~ 1-2):
+  ///   "none"; "neighbourhood": keep a candidate pixel if >= prefilter_min_count of the 5x5
+  ///   pixels centred on it are candidates (starCentroid2); "grid": the same count on a fixed
+  ///   5x5 grid of cells, keeping pixels of passing cells and their 8 neighbour cells
+  ///   (starCentroid3, cheaper when many pixels pass the threshold).
+  std::string prefilter = "none";
+  int prefilter_min_count = 9;  ///< of 25 (seed 004 §4.1: "at least 9 of the 25")
+
+  // --- blobs ---
+  int min_area = 3;             ///< [px] smaller blobs are noise spikes (seed 004 §4.1: < 3)
+  int max_area = 2000;          ///< [px] larger blobs are the Moon, planets, glare
+  int max_stars = 100;          ///< keep the brightest this many
+  double min_separation_px = 3.0;  ///< a centroid closer to a brighter one is the same star
+  double max_elongation = 2.5;  ///< sqrt(lambda1/lambda2) of second moments above: kElongated
+  double hot_pixel_fraction = 0.85;  ///< peak / 3x3 flux above: kHotPixel (PSF-less spike)
+  /// Flags that remove a star instead of only marking it. Elongated is off by default since
+  /// stars are streaks by design during slews.
+  uint32_t reject_flags = kHotPixel | kTouchesEdge;
+
+  // --- centroiding ---
+  std::string centroider = "gauss";  ///< "cog", "iwc" or "gauss" (see centroider.hpp)
+  double psf_sigma_px = 0.0;  ///< [px] PSF sigma guess; 0 = estimate per star from moments
+  int window_margin_px = 2;   ///< [px] added around a blob's box for the centroid window
+
+  // --- predictive windows (seed 004 §4.2.3) ---
+  double window_sigmas = 3.0;  ///< half-size = window_sigmas*sqrt(max eig cov) + PSF radius
+  int max_window_half_px = 40;  ///< cap on the half-size of a predictive window
+
+  /// True when all values are usable; otherwise false with a message naming the field.
+  bool isValid(std::string* error = nullptr) const;
+};
+
+}  // namespace st

@@ -1,0 +1,390 @@
+#include "sensors/detect/star_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+
+#include <mrpt/img/CImage.h>
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+#include "common/errors.hpp"
+#include "sensors/detect/background.hpp"
+#include "sensors/detect/centroider.hpp"
+#include "sensors/detect/prefilter.hpp"
+
+namespace st {
+namespace {
+
+constexpr double kDefaultPsfSigma = 1.2;  // [px] when neither given nor measurable
+
+void requireValid(const DetectorOptions& opts) {
+  std::string err;
+  if (!opts.isValid(&err)) throw InputError(err);
+}
+
+// One-channel 8/16-bit view of the input (a copy only for colour), or a reason.
+bool greyView(const cv::Mat& in, cv::Mat& grey, std::string& reason) {
+  if (in.empty()) {
+    reason = "empty image";
+    return false;
+  }
+  if (in.depth() != CV_8U && in.depth() != CV_16U) {
+    reason = "unsupported image type " + cv::typeToString(in.type()) + " (want 8- or 16-bit)";
+    return false;
+  }
+  if (in.channels() == 1) {
+    grey = in;
+  } else if (in.channels() == 3) {
+    cv::cvtColor(in, grey, cv::COLOR_BGR2GRAY);
+  } else if (in.channels() == 4) {
+    cv::cvtColor(in, grey, cv::COLOR_BGRA2GRAY);
+  } else {
+    reason = "unsupported image type " + cv::typeToString(in.type()) + " (channels)";
+    return false;
+  }
+  return true;
+}
+
+double saturationLevel(const cv::Mat& grey, const DetectorOptions& opts) {
+  if (opts.saturation_adu > 0) return opts.saturation_adu;
+  return grey.depth() == CV_8U ? 255.0 : 65535.0;
+}
+
+template <typename T>
+double pix(const cv::Mat& m, int x, int y) {
+  return static_cast<double>(m.ptr<T>(y)[x]);
+}
+double pixel(const cv::Mat& m, int x, int y) {
+  return m.depth() == CV_8U ? pix<uint8_t>(m, x, y) : pix<uint16_t>(m, x, y);
+}
+
+// Second moments of the background-subtracted pixels selected by `use`: elongation and a
+// PSF sigma estimate (the moments of a pixel-integrated Gaussian are s^2 + 1/12).
+template <typename Use>
+void shape(const cv::Mat& grey, const cv::Rect& r, double bg, Use use, double& elongation,
+           double& sigma) {
+  double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int y = r.y; y < r.y + r.height; ++y)
+    for (int x = r.x; x < r.x + r.width; ++x) {
+      if (!use(x, y)) continue;
+      const double w = pixel(grey, x, y) - bg;
+      if (w <= 0) continue;
+      sw += w;
+      sx += w * x;
+      sy += w * y;
+      sxx += w * x * x;
+      syy += w * y * y;
+      sxy += w * x * y;
+    }
+  elongation = 1;
+  sigma = 0;
+  if (sw <= 0) return;
+  const double mx = sx / sw, my = sy / sw;
+  const double a = sxx / sw - mx * mx, b = syy / sw - my * my, c = sxy / sw - mx * my;
+  const double tr = 0.5 * (a + b), dd = std::sqrt(std::max(0.0, 0.25 * (a - b) * (a - b) + c * c));
+  const double l1 = tr + dd, l2 = std::max(tr - dd, 1.0 / 12.0);
+  elongation = std::sqrt(l1 / l2);
+  sigma = std::sqrt(std::max(tr - 1.0 / 12.0, 0.0));
+}
+
+StarPatch makePatch(const cv::Mat& grey, const cv::Rect& r, double bg, double sigma_bg,
+                    double sat, double psf, const Vec2& guess, const DetectorOptions& opts) {
+  StarPatch p;
+  grey(r).convertTo(p.values, CV_32F);
+  p.origin = r.tl();
+  p.background = bg;
+  p.sigma_bg = sigma_bg;
+  p.gain = opts.gain_e_per_adu;
+  p.saturation = sat;
+  p.psf_sigma = psf;
+  p.guess = guess;
+  return p;
+}
+
+// The configured centroider, with the plain CoG as the fallback when it fails.
+bool measure(const Centroider& main, const Centroider& fallback, const StarPatch& p,
+             Centroid& c, std::string* reason) {
+  if (main.centroid(p, c, reason)) return true;
+  return &main != &fallback && fallback.centroid(p, c, reason);
+}
+
+struct Candidate {
+  int label;
+  cv::Rect box;
+  int area;
+  double sum;
+  cv::Point peak;
+  double peak_raw;
+};
+
+}  // namespace
+
+DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts) {
+  requireValid(opts);
+  DetectionResult res;
+  cv::Mat grey;
+  if (!greyView(image, grey, res.reason)) return res;
+  if (!opts.dark_frame.empty()) {
+    if (opts.dark_frame.size() != grey.size() || opts.dark_frame.type() != grey.type()) {
+      res.reason = "dark frame size/type differs from the image";
+      return res;
+    }
+    cv::Mat sub;
+    cv::subtract(grey, opts.dark_frame, sub);  // saturating: never below 0
+    grey = sub;
+  }
+  const double sat = saturationLevel(grey, opts);
+  const BackgroundModel bg = estimateBackground(grey, opts.background_tile_px,
+                                                opts.background_samples, opts.read_noise_adu);
+  res.background = bg.level;
+  res.noise_sigma = bg.sigma;
+  if (bg.level >= sat) {
+    res.reason = "image saturated (background at the saturation level)";
+    return res;
+  }
+
+  // Threshold at k sigma above the (tiled) background (seed 004 §4.1).
+  cv::Mat mask(grey.size(), CV_8U);
+  const double k = opts.threshold_sigma;
+  if (bg.tile > 0) {
+    for (int ty = 0; ty < bg.tiles_y; ++ty)
+      for (int tx = 0; tx < bg.tiles_x; ++tx) {
+        const cv::Rect r(tx * bg.tile, ty * bg.tile, std::min(bg.tile, grey.cols - tx * bg.tile),
+                         std::min(bg.tile, grey.rows - ty * bg.tile));
+        const std::size_t i = static_cast<std::size_t>(ty * bg.tiles_x + tx);
+        cv::compare(grey(r), bg.tile_level[i] + k * bg.tile_sigma[i], mask(r), cv::CMP_GT);
+      }
+  } else {
+    cv::compare(grey, bg.level + k * bg.sigma, mask, cv::CMP_GT);
+  }
+  applyPrefilter(mask, opts.prefilter, opts.prefilter_min_count);
+
+  cv::Mat labels, stats, cents;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, cents, 8, CV_32S);
+  res.blobs_found = n - 1;
+  if (n <= 1) {
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(grey, &lo, &hi);
+    res.reason = lo == hi ? "blank image (constant value " + std::to_string(lo) + ")"
+                          : "no pixel above the threshold";
+    return res;
+  }
+
+  // Brightness of each blob above its local background, for the brightest-first order.
+  std::vector<Candidate> cands;
+  cands.reserve(static_cast<std::size_t>(n - 1));
+  for (int l = 1; l < n; ++l) {
+    const int* s = stats.ptr<int>(l);
+    const int area = s[cv::CC_STAT_AREA];
+    if (area < opts.min_area || area > opts.max_area) {
+      ++res.rejected;
+      continue;
+    }
+    Candidate c{l, cv::Rect(s[0], s[1], s[2], s[3]), area, 0.0, {}, -1.0};
+    const double b = bg.levelAt(c.box.x + 0.5 * c.box.width, c.box.y + 0.5 * c.box.height);
+    for (int y = c.box.y; y < c.box.y + c.box.height; ++y) {
+      const int* lab = labels.ptr<int>(y);
+      for (int x = c.box.x; x < c.box.x + c.box.width; ++x) {
+        if (lab[x] != l) continue;
+        const double v = pixel(grey, x, y);
+        c.sum += v - b;
+        if (v > c.peak_raw) {
+          c.peak_raw = v;
+          c.peak = {x, y};
+        }
+      }
+    }
+    cands.push_back(c);
+  }
+  std::sort(cands.begin(), cands.end(),
+            [](const Candidate& a, const Candidate& b) { return a.sum > b.sum; });
+
+  const auto main = Centroider::create(opts.centroider);
+  const auto cog = makeCogCentroider();
+  const cv::Rect frame(0, 0, grey.cols, grey.rows);
+  const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
+  for (const Candidate& c : cands) {
+    if (static_cast<int>(res.stars.size()) >= opts.max_stars) break;
+    const double b = bg.levelAt(c.peak.x, c.peak.y), sb = bg.sigmaAt(c.peak.x, c.peak.y);
+    uint32_t flags = 0;
+    if (c.box.x == 0 || c.box.y == 0 || c.box.x + c.box.width == grey.cols ||
+        c.box.y + c.box.height == grey.rows)
+      flags |= kTouchesEdge;
+    if (c.peak_raw >= sat) flags |= kSaturated;
+    double elong = 1, psf = 0;
+    shape(grey, c.box, b, [&](int x, int y) { return labels.ptr<int>(y)[x] == c.label; }, elong,
+          psf);
+    if (elong > opts.max_elongation) flags |= kElongated;
+    // Hot pixel: nearly all the light of the 3x3 around the peak in the peak itself.
+    const cv::Rect r3 = cv::Rect(c.peak.x - 1, c.peak.y - 1, 3, 3) & frame;
+    double s3 = 0;
+    for (int y = r3.y; y < r3.y + r3.height; ++y)
+      for (int x = r3.x; x < r3.x + r3.width; ++x) s3 += std::max(pixel(grey, x, y) - b, 0.0);
+    if (s3 > 0 && (c.peak_raw - b) / s3 > opts.hot_pixel_fraction && !(flags & kSaturated))
+      flags |= kHotPixel;
+    if (flags & opts.reject_flags) {
+      ++res.rejected;
+      continue;
+    }
+    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
+    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    // Window: the blob's box plus a margin, and at least +-2.5 PSF sigma around the peak.
+    const int h = static_cast<int>(std::ceil(2.5 * psf));
+    cv::Rect win(c.box.x - opts.window_margin_px, c.box.y - opts.window_margin_px,
+                 c.box.width + 2 * opts.window_margin_px, c.box.height + 2 * opts.window_margin_px);
+    win |= cv::Rect(c.peak.x - h, c.peak.y - h, 2 * h + 1, 2 * h + 1);
+    win &= frame;
+    const StarPatch patch =
+        makePatch(grey, win, b, sb, sat, psf, Vec2(c.peak.x, c.peak.y), opts);
+    Centroid star;
+    if (!measure(*main, *cog, patch, star, nullptr)) {
+      ++res.rejected;
+      continue;
+    }
+    star.area = c.area;
+    star.flags = flags;
+    bool dup = false;
+    for (const Centroid& o : res.stars)
+      if ((o.px - star.px).squaredNorm() < min_sep2) dup = true;
+    if (dup) {
+      ++res.duplicates;
+      continue;
+    }
+    res.stars.push_back(star);
+  }
+  std::stable_sort(res.stars.begin(), res.stars.end(),
+                   [](const Centroid& a, const Centroid& b) { return a.flux > b.flux; });
+  if (res.stars.empty()) res.reason = "no blob passed the filters";
+  return res;
+}
+
+int windowHalfSize(const PredictedStar& p, const DetectorOptions& opts) {
+  const Eigen::SelfAdjointEigenSolver<Mat2> es(0.5 * (p.cov_px + p.cov_px.transpose()),
+                                               Eigen::EigenvaluesOnly);
+  const double sd = std::sqrt(std::max(es.eigenvalues()[1], 0.0));
+  const double psf = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
+  const double h = opts.window_sigmas * sd + 3.0 * psf + 0.5 * p.blur_px.norm();
+  if (!std::isfinite(h)) return opts.max_window_half_px;
+  return std::clamp(static_cast<int>(std::ceil(h)), 2, opts.max_window_half_px);
+}
+
+std::vector<WindowResult> centroidWindows(const cv::Mat& image,
+                                          const std::vector<PredictedStar>& predicted,
+                                          const DetectorOptions& opts) {
+  requireValid(opts);
+  std::vector<WindowResult> out(predicted.size());
+  cv::Mat grey;
+  std::string why;
+  if (!greyView(image, grey, why)) {
+    for (auto& w : out) w.reason = why;
+    return out;
+  }
+  const double sat = saturationLevel(grey, opts);
+  const auto main = Centroider::create(opts.centroider);
+  const auto cog = makeCogCentroider();
+  const cv::Rect frame(0, 0, grey.cols, grey.rows);
+  const double psf0 = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
+  thread_local std::vector<float> ring;
+  for (std::size_t i = 0; i < predicted.size(); ++i) {
+    const PredictedStar& p = predicted[i];
+    WindowResult& w = out[i];
+    if (!p.px.allFinite() || p.px.x() < -0.5 || p.px.y() < -0.5 ||
+        p.px.x() > grey.cols - 0.5 || p.px.y() > grey.rows - 0.5) {
+      w.reason = "outside image";
+      continue;
+    }
+    const int h = windowHalfSize(p, opts);
+    const int cx = static_cast<int>(std::lround(p.px.x())),
+              cy = static_cast<int>(std::lround(p.px.y()));
+    const cv::Rect win = cv::Rect(cx - h, cy - h, 2 * h + 1, 2 * h + 1) & frame;
+    if (win.width < 3 || win.height < 3) {
+      w.reason = "outside image";
+      continue;
+    }
+    // Background and noise from the window's border ring; peak inside.
+    ring.clear();
+    double peak = -1;
+    cv::Point pk;
+    for (int y = win.y; y < win.y + win.height; ++y) {
+      const bool edge_row = y == win.y || y == win.y + win.height - 1;
+      for (int x = win.x; x < win.x + win.width; ++x) {
+        const double v = pixel(grey, x, y);
+        if (edge_row || x == win.x || x == win.x + win.width - 1)
+          ring.push_back(static_cast<float>(v));
+        if (v > peak) {
+          peak = v;
+          pk = {x, y};
+        }
+      }
+    }
+    double b, sb;
+    robustLevelSigma(ring, b, sb);
+    sb = std::max({sb, opts.read_noise_adu, 0.3});
+    if (peak - b < opts.threshold_sigma * sb) {
+      w.reason = "below threshold";
+      continue;
+    }
+    // Centroid window around the peak, inside the search window: PSF radius plus the streak.
+    const double blur = p.blur_px.norm();
+    const int hc = static_cast<int>(std::ceil(2.5 * psf0 + 0.5 * blur));
+    const cv::Rect cw = cv::Rect(pk.x - hc, pk.y - hc, 2 * hc + 1, 2 * hc + 1) & win;
+    uint32_t flags = 0;
+    if (peak >= sat) flags |= kSaturated;
+    if ((cv::Rect(pk.x - hc, pk.y - hc, 2 * hc + 1, 2 * hc + 1) & frame).area() !=
+        (2 * hc + 1) * (2 * hc + 1))
+      flags |= kTouchesEdge;
+    const double thr = b + opts.threshold_sigma * sb;
+    int area = 0;
+    for (int y = cw.y; y < cw.y + cw.height; ++y)
+      for (int x = cw.x; x < cw.x + cw.width; ++x) area += pixel(grey, x, y) > thr;
+    double elong = 1, psf = 0;
+    shape(grey, cw, b, [&](int x, int y) { return pixel(grey, x, y) > thr; }, elong, psf);
+    if (elong > opts.max_elongation) flags |= kElongated;
+    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
+    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    const StarPatch patch = makePatch(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+    // A streak is not a round PSF: the plain CoG measures its middle.
+    const Centroider& c = blur > 2.0 * psf ? *cog : *main;
+    Centroid star;
+    std::string reason;
+    if (!measure(c, *cog, patch, star, &reason)) {
+      w.reason = "not found: " + reason;
+      continue;
+    }
+    star.area = area;
+    star.flags = flags;
+    w.centroid = star;
+  }
+  return out;
+}
+
+DetectionResult detectStars(const mrpt::img::CImage& image, const DetectorOptions& opts) {
+  requireValid(opts);
+  try {
+    return detectStars(image.asCvMatRef(), opts);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    DetectionResult r;
+    r.reason = std::string("cannot read image: ") + e.what();
+    return r;
+  }
+}
+
+std::vector<WindowResult> centroidWindows(const mrpt::img::CImage& image,
+                                          const std::vector<PredictedStar>& predicted,
+                                          const DetectorOptions& opts) {
+  requireValid(opts);
+  try {
+    return centroidWindows(image.asCvMatRef(), predicted, opts);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    std::vector<WindowResult> out(predicted.size());
+    for (auto& w : out) w.reason = std::string("cannot read image: ") + e.what();
+    return out;
+  }
+}
+
+}  // namespace st

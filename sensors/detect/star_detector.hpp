@@ -1,0 +1,64 @@
+/// @file star_detector.hpp
+/// Star detection and centroiding (seed 004 ch. 4): background and noise, threshold at
+/// k sigma, optional pre-filter, blobs (8-connected), per-star centroid with covariance.
+///   detectStars      full frame, when lost (lost-in-space);
+///   centroidWindows  only small windows around predicted stars, when tracking (§4.2.3).
+/// Input: 8- or 16-bit grey cv::Mat (colour is converted to grey) or an mrpt::img::CImage
+/// (read through asCvMatRef(), no copy). Bad images give an empty result with a reason,
+/// bad options throw InputError naming the field.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sensors/detect/centroid.hpp"
+#include "sensors/detect/detector_options.hpp"
+
+namespace mrpt::img {
+class CImage;
+}
+
+namespace st {
+
+struct DetectionResult {
+  std::vector<Centroid> stars;  ///< brightest first, at most opts.max_stars
+  std::string reason;           ///< empty = ok; otherwise why there are no stars
+  double background = 0;        ///< [ADU] global background level
+  double noise_sigma = 0;       ///< [ADU] global background noise
+  int blobs_found = 0;          ///< connected components above the threshold
+  int rejected = 0;             ///< blobs dropped (area, reject_flags, failed centroid)
+  int duplicates = 0;           ///< centroids dropped as the same star as a brighter one
+};
+
+DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts = {});
+DetectionResult detectStars(const mrpt::img::CImage& image, const DetectorOptions& opts = {});
+
+/// A star expected on the image: where, how sure (covariance), and the streak its image
+/// draws during the exposure (blur vector, from the body rate).
+struct PredictedStar {
+  Vec2 px = Vec2::Zero();
+  Mat2 cov_px = Mat2::Identity();
+  Vec2 blur_px = Vec2::Zero();
+};
+/// One per predicted star: the centroid or why not ("outside image", "below threshold",
+/// "not found: ...").
+struct WindowResult {
+  std::optional<Centroid> centroid;
+  std::string reason;
+};
+
+/// Half-size [px] of the search window of a predicted star: window_sigmas * sqrt(largest
+/// eigenvalue of cov) + PSF radius (3 sigma) + half the blur length, capped.
+int windowHalfSize(const PredictedStar& p, const DetectorOptions& opts);
+
+/// Reads only the windows (background from each window's border).
+std::vector<WindowResult> centroidWindows(const cv::Mat& image,
+                                          const std::vector<PredictedStar>& predicted,
+                                          const DetectorOptions& opts = {});
+std::vector<WindowResult> centroidWindows(const mrpt::img::CImage& image,
+                                          const std::vector<PredictedStar>& predicted,
+                                          const DetectorOptions& opts = {});
+
+}  // namespace st
