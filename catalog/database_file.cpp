@@ -1,0 +1,233 @@
+// The database file: one little-endian binary blob
+//   magic "STARDB\r\n" | uint32 format version | uint32 byte-order mark 0x01020304 |
+//   build parameters | build report (incl. catalog name and epoch) | stars | pairs |
+//   neighbour table | uint32 CRC-32 (zlib) of every byte before it.
+// Pair and neighbour indices are stored as uint16 when there are < 65536 stars (that keeps a
+// 15 deg / V 6.5 database under 10 MB). The pair k-vector and the cone index are not stored:
+// they are rebuilt from the stored, sorted values in one O(n) pass at load (a few ms), so
+// they can never disagree with the data.
+#include <zlib.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <type_traits>
+
+#include "catalog/star_database.hpp"
+#include "common/errors.hpp"
+
+namespace st {
+namespace {
+
+constexpr char kMagic[8] = {'S', 'T', 'A', 'R', 'D', 'B', '\r', '\n'};
+constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kByteOrderMark = 0x01020304;
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& v) {
+    static_assert(std::is_trivially_copyable<T>::value, "POD only");
+    const char* p = reinterpret_cast<const char*>(&v);
+    buf.append(p, sizeof(T));
+  }
+  void putString(const std::string& s) {
+    put(uint32_t(s.size()));
+    buf.append(s);
+  }
+  std::string buf;
+};
+
+class Reader {
+ public:
+  Reader(const std::string& path, const std::string& bytes, std::size_t end)
+      : path_(path), bytes_(bytes), end_(end) {}
+  template <class T>
+  T get(const char* what) {
+    T v;
+    need(sizeof(T), what);
+    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::string getString(const char* what) {
+    const uint32_t n = get<uint32_t>(what);
+    need(n, what);
+    std::string s = bytes_.substr(pos_, n);
+    pos_ += n;
+    return s;
+  }
+  void need(std::size_t n, const char* what) const {
+    if (n > end_ - pos_)
+      throw InputError(path_ + ": star database truncated or corrupt while reading " + what +
+                       " at byte " + std::to_string(pos_));
+  }
+  std::size_t pos() const { return pos_; }
+
+ private:
+  const std::string& path_;
+  const std::string& bytes_;
+  std::size_t end_, pos_ = 0;
+};
+
+uint32_t crc32Of(const char* p, std::size_t n) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  while (n > 0) {  // zlib takes uInt lengths
+    const uInt chunk = uInt(std::min<std::size_t>(n, 1u << 30));
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(p), chunk);
+    p += chunk;
+    n -= chunk;
+  }
+  return uint32_t(crc);
+}
+
+}  // namespace
+
+void StarDatabase::save(const std::string& path) const {
+  Writer w;
+  w.buf.append(kMagic, sizeof kMagic);
+  w.put(kFormatVersion);
+  w.put(kByteOrderMark);
+  const DatabaseParams& p = params_;
+  w.put(p.max_pair_angle);
+  w.put(p.mag_limit);
+  w.put(p.epoch_jyear);
+  w.put(uint8_t(p.aberration));
+  w.put(uint8_t(p.parallax));
+  w.put(p.double_star_sep);
+  w.put(int32_t(p.max_stars_per_region));
+  w.put(p.region_radius);
+  w.put(p.neighbour_radius);
+  const BuildReport& r = report_;
+  w.putString(r.catalog_name);
+  w.put(r.catalog_epoch_jyear);
+  for (std::size_t v : {r.catalog_entries, r.skipped_no_position, r.merge_candidates,
+                        r.double_star_groups, r.stars_merged_away, r.after_mag_limit,
+                        r.after_density})
+    w.put(uint64_t(v));
+  w.put(r.build_seconds);
+
+  w.put(uint32_t(stars_.size()));
+  for (const Star& s : stars_) {
+    w.put(s.id);
+    w.put(s.u_i.x());
+    w.put(s.u_i.y());
+    w.put(s.u_i.z());
+    w.put(s.mag);
+  }
+  const bool narrow = stars_.size() < 65536;
+  w.put(uint8_t(narrow ? 2 : 4));
+  auto putIndex = [&](uint32_t v) {
+    if (narrow)
+      w.put(uint16_t(v));
+    else
+      w.put(v);
+  };
+  w.put(uint64_t(pairs_.size()));
+  for (const StarPair& pr : pairs_) {
+    putIndex(pr.a);
+    putIndex(pr.b);
+    w.put(pr.theta);
+  }
+  for (uint32_t v : nbr_start_) w.put(v);
+  for (uint32_t v : nbr_) putIndex(v);
+  w.put(crc32Of(w.buf.data(), w.buf.size()));
+
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(path + ": cannot open for writing the star database");
+  out.write(w.buf.data(), std::streamsize(w.buf.size()));
+  out.close();
+  if (!out) throw InputError(path + ": write failed (disk full?)");
+}
+
+StarDatabase StarDatabase::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open star database");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < sizeof kMagic + 12 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw InputError(path + ": not a star database (bad magic; build one with "
+                     "`startracker catalog build`)");
+  uint32_t version, bom;
+  std::memcpy(&version, bytes.data() + sizeof kMagic, 4);
+  std::memcpy(&bom, bytes.data() + sizeof kMagic + 4, 4);
+  if (bom != kByteOrderMark)
+    throw InputError(path + ": star database written on a host of the other byte order");
+  if (version != kFormatVersion)
+    throw InputError(path + ": star database format version " + std::to_string(version) +
+                     ", this program reads version " + std::to_string(kFormatVersion) +
+                     "; rebuild it with `startracker catalog build`");
+  const std::size_t body = bytes.size() - 4;
+  uint32_t stored_crc;
+  std::memcpy(&stored_crc, bytes.data() + body, 4);
+  if (crc32Of(bytes.data(), body) != stored_crc)
+    throw InputError(path + ": star database checksum mismatch (corrupt or truncated file)");
+
+  Reader rd(path, bytes, body);
+  rd.need(sizeof kMagic + 8, "header");
+  rd.get<uint64_t>("magic");
+  rd.get<uint64_t>("version");
+  StarDatabase db;
+  DatabaseParams& p = db.params_;
+  p.max_pair_angle = rd.get<double>("parameters");
+  p.mag_limit = rd.get<double>("parameters");
+  p.epoch_jyear = rd.get<double>("parameters");
+  p.aberration = rd.get<uint8_t>("parameters") != 0;
+  p.parallax = rd.get<uint8_t>("parameters") != 0;
+  p.double_star_sep = rd.get<double>("parameters");
+  p.max_stars_per_region = rd.get<int32_t>("parameters");
+  p.region_radius = rd.get<double>("parameters");
+  p.neighbour_radius = rd.get<double>("parameters");
+  BuildReport& r = db.report_;
+  r.catalog_name = rd.getString("catalog name");
+  r.catalog_epoch_jyear = rd.get<double>("report");
+  for (std::size_t* v : {&r.catalog_entries, &r.skipped_no_position, &r.merge_candidates,
+                         &r.double_star_groups, &r.stars_merged_away, &r.after_mag_limit,
+                         &r.after_density})
+    *v = std::size_t(rd.get<uint64_t>("report"));
+  r.build_seconds = rd.get<double>("report");
+
+  const uint32_t n = rd.get<uint32_t>("star count");
+  rd.need(std::size_t(n) * 32, "stars");
+  db.stars_.resize(n);
+  for (Star& s : db.stars_) {
+    s.id = rd.get<uint32_t>("stars");
+    const double x = rd.get<double>("stars"), y = rd.get<double>("stars"),
+                 z = rd.get<double>("stars");
+    s.u_i = Vec3(x, y, z);
+    s.mag = rd.get<float>("stars");
+  }
+  const uint8_t width = rd.get<uint8_t>("index width");
+  if (width != 2 && width != 4)
+    throw InputError(path + ": star database has an invalid index width " + std::to_string(width));
+  auto getIndex = [&](const char* what) {
+    const uint32_t v = width == 2 ? rd.get<uint16_t>(what) : rd.get<uint32_t>(what);
+    if (v >= n) throw InputError(path + ": star database " + what + " index out of range");
+    return v;
+  };
+  const uint64_t np = rd.get<uint64_t>("pair count");
+  rd.need(std::size_t(np) * (2 * width + 4), "pairs");
+  db.pairs_.resize(std::size_t(np));
+  for (StarPair& pr : db.pairs_) {
+    pr.a = getIndex("pair");
+    pr.b = getIndex("pair");
+    pr.theta = rd.get<float>("pairs");
+  }
+  db.nbr_start_.resize(std::size_t(n) + 1);
+  for (uint32_t& v : db.nbr_start_) v = rd.get<uint32_t>("neighbour offsets");
+  for (std::size_t i = 0; i < n; ++i)
+    if (db.nbr_start_[i + 1] < db.nbr_start_[i] || db.nbr_start_[0] != 0)
+      throw InputError(path + ": star database neighbour offsets not monotonic");
+  db.nbr_.resize(db.nbr_start_.back());
+  for (uint32_t& v : db.nbr_) v = getIndex("neighbour");
+  if (rd.pos() != body)
+    throw InputError(path + ": star database has " + std::to_string(body - rd.pos()) +
+                     " unexpected bytes before the checksum");
+  db.buildIndexes();
+  db.pair_kv_.build(db.pairs_.size(), [&](std::size_t k) { return double(db.pairs_[k].theta); });
+  r.pairs = db.pairs_.size();
+  r.kvector_size = db.pair_kv_.size();
+  r.neighbour_entries = db.nbr_.size();
+  return db;
+}
+
+}  // namespace st

@@ -1,0 +1,236 @@
+// StarDatabase: building the search structures and querying them.
+#include "catalog/star_database.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "catalog/epoch_correction.hpp"
+#include "catalog/star_selection.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+
+namespace st {
+namespace {
+
+// Stars up to this much fainter than the limit enter the double-star merge: a companion
+// 2.5 mag fainter still brightens the blend by 0.10 mag and shifts its centroid.
+constexpr double kMergeMagMargin = 2.5;
+
+// Fibonacci lattice of n nearly uniform directions (centres of the density-reduction cones).
+std::vector<Vec3> fibonacciSphere(std::size_t n) {
+  std::vector<Vec3> v(n);
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (std::size_t k = 0; k < n; ++k) {
+    const double z = 1.0 - (2.0 * k + 1.0) / double(n);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    v[k] = Vec3(r * std::cos(golden * k), r * std::sin(golden * k), z);
+  }
+  return v;
+}
+
+void checkParams(const DatabaseParams& p) {
+  auto bad = [](const std::string& what) { throw InputError("database parameters: " + what); };
+  if (!(p.max_pair_angle > 0 && p.max_pair_angle < kPi))
+    bad("max_pair_angle must be in (0, 180) deg, got " + std::to_string(rad2deg(p.max_pair_angle)));
+  if (!std::isfinite(p.mag_limit)) bad("mag_limit must be finite");
+  if (!std::isfinite(p.epoch_jyear) || p.epoch_jyear < 1000 || p.epoch_jyear > 3000)
+    bad("epoch must be a Julian year in [1000, 3000], got " + std::to_string(p.epoch_jyear));
+  if (!(p.double_star_sep >= 0 && p.double_star_sep < deg2rad(1)))
+    bad("double_star_sep must be in [0, 1) deg");
+  if (p.max_stars_per_region < 0) bad("max_stars_per_region must be >= 0");
+  if (!(p.neighbour_radius >= 0 && p.neighbour_radius < kPi)) bad("neighbour_radius must be in [0, 180) deg");
+  if (!(p.region_radius >= 0 && p.region_radius < kPi)) bad("region_radius must be in [0, 180) deg");
+}
+
+}  // namespace
+
+std::string StarDatabase::defaultCatalogPath() {
+  return std::string(ST_CATALOG_DATA_DIR) + "/hip_main_v6.6.dat.gz";
+}
+
+StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params) {
+  checkParams(params);
+  const auto t0 = std::chrono::steady_clock::now();
+  StarDatabase db;
+  db.params_ = params;
+  BuildReport& rep = db.report_;
+  rep.catalog_name = cat.name;
+  rep.catalog_epoch_jyear = cat.epoch_jyear;
+  rep.catalog_entries = cat.entries.size();
+  rep.skipped_no_position = cat.skipped_no_position;
+
+  // 1. Candidates, corrected to the observation epoch (proper motion, parallax, aberration).
+  const double merge_limit =
+      params.double_star_sep > 0 ? params.mag_limit + kMergeMagMargin : params.mag_limit;
+  const EarthState earth = earthBarycentricState(params.epoch_jyear);
+  std::vector<SelectedStar> sel;
+  for (const CatalogEntry& e : cat.entries) {
+    if (!(e.vmag <= merge_limit)) continue;
+    Vec3 u = propagateSpaceMotion(e, cat.epoch_jyear, params.epoch_jyear);
+    if (params.parallax) u = applyParallax(u, e.parallax, earth.position_au);
+    if (params.aberration) u = applyAberration(u, earth.velocity_km_s);
+    sel.push_back({e.id, u, e.vmag});
+  }
+  rep.merge_candidates = sel.size();
+
+  // 2. Double stars (seed 004 eqs. 6.1/6.2), then 3. the magnitude limit on the blends.
+  sel = mergeDoubleStars(sel, params.double_star_sep, &rep.double_star_groups,
+                         &rep.stars_merged_away);
+  sel.erase(std::remove_if(sel.begin(), sel.end(),
+                           [&](const SelectedStar& s) { return !(s.mag <= params.mag_limit); }),
+            sel.end());
+  rep.after_mag_limit = sel.size();
+  std::sort(sel.begin(), sel.end(), [](const SelectedStar& a, const SelectedStar& b) {
+    return a.mag != b.mag ? a.mag < b.mag : a.id < b.id;
+  });
+  db.stars_.reserve(sel.size());
+  for (const SelectedStar& s : sel) db.stars_.push_back({s.id, s.u, float(s.mag)});
+  db.buildIndexes();
+
+  // 4. Uniform density (seed 004 sec. 5.5.4): sweep cone centres over the sky and keep the
+  // N brightest stars of every cone; a star survives if some cone keeps it.
+  if (params.max_stars_per_region > 0 && !db.stars_.empty()) {
+    const double radius =
+        params.region_radius > 0 ? params.region_radius : params.max_pair_angle / 2;
+    const double step = std::min(deg2rad(1.0), radius / 4);  // the seed sweeps 1 deg steps
+    const std::size_t n_centres = std::size_t(std::ceil(4 * kPi / (step * step)));
+    std::vector<char> keep(db.stars_.size(), 0);
+    std::vector<uint32_t> in_cone;
+    for (const Vec3& c : fibonacciSphere(n_centres)) {
+      db.coneQuery(c, radius, in_cone);  // ascending index = brightest first
+      const std::size_t k = std::min<std::size_t>(in_cone.size(), params.max_stars_per_region);
+      for (std::size_t j = 0; j < k; ++j) keep[in_cone[j]] = 1;
+    }
+    std::vector<Star> kept;
+    for (std::size_t i = 0; i < db.stars_.size(); ++i)
+      if (keep[i]) kept.push_back(db.stars_[i]);
+    db.stars_.swap(kept);
+    db.buildIndexes();
+  }
+  rep.after_density = db.stars_.size();
+
+  // 5. Pairs + k-vector, 6. neighbour table.
+  db.buildPairs();
+  db.buildNeighbours();
+  rep.pairs = db.pairs_.size();
+  rep.kvector_size = db.pair_kv_.size();
+  rep.neighbour_entries = db.nbr_.size();
+  rep.build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return db;
+}
+
+void StarDatabase::buildIndexes() {
+  const std::size_t n = stars_.size();
+  for (int c = 0; c < 3; ++c) {
+    AxisIndex& ax = axis_[c];
+    ax.order.resize(n);
+    std::iota(ax.order.begin(), ax.order.end(), 0u);
+    std::sort(ax.order.begin(), ax.order.end(), [&](uint32_t a, uint32_t b) {
+      return stars_[a].u_i[c] != stars_[b].u_i[c] ? stars_[a].u_i[c] < stars_[b].u_i[c] : a < b;
+    });
+    ax.u.resize(n);
+    ax.coord.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      ax.u[k] = stars_[ax.order[k]].u_i;
+      ax.coord[k] = ax.u[k][c];
+    }
+    ax.kv.build(n, [&](std::size_t k) { return ax.coord[k]; });
+  }
+}
+
+void StarDatabase::buildPairs() {
+  pairs_.clear();
+  std::vector<uint32_t> near;
+  for (uint32_t i = 0; i < stars_.size(); ++i) {
+    coneQuery(stars_[i].u_i, params_.max_pair_angle, near);
+    for (uint32_t j : near) {
+      if (j <= i) continue;
+      const Vec3& a = stars_[i].u_i;
+      const Vec3& b = stars_[j].u_i;
+      // atan2 keeps full precision for close pairs, where acos(dot) loses digits.
+      pairs_.push_back({i, j, float(std::atan2(a.cross(b).norm(), a.dot(b)))});
+    }
+  }
+  std::sort(pairs_.begin(), pairs_.end(), [](const StarPair& p, const StarPair& q) {
+    if (p.theta != q.theta) return p.theta < q.theta;
+    return p.a != q.a ? p.a < q.a : p.b < q.b;
+  });
+  pair_kv_.build(pairs_.size(), [&](std::size_t k) { return double(pairs_[k].theta); });
+}
+
+void StarDatabase::buildNeighbours() {
+  nbr_start_.assign(1, 0);
+  nbr_.clear();
+  std::vector<uint32_t> near;
+  std::vector<std::pair<double, uint32_t>> by_dist;
+  for (uint32_t i = 0; i < stars_.size(); ++i) {
+    if (params_.neighbour_radius > 0) coneQuery(stars_[i].u_i, params_.neighbour_radius, near);
+    else near.clear();
+    by_dist.clear();
+    for (uint32_t j : near)
+      if (j != i) by_dist.push_back({-stars_[i].u_i.dot(stars_[j].u_i), j});
+    std::sort(by_dist.begin(), by_dist.end());  // nearest first
+    for (const auto& d : by_dist) nbr_.push_back(d.second);
+    nbr_start_.push_back(uint32_t(nbr_.size()));
+  }
+}
+
+PairSlice StarDatabase::pairsInRange(double theta_lo, double theta_hi) const {
+  const auto r = pair_kv_.range(theta_lo, theta_hi,
+                                [&](std::size_t k) { return double(pairs_[k].theta); });
+  const StarPair* base = pairs_.data();
+  return {base + r.first, base + r.second};
+}
+
+void StarDatabase::coneQuery(const Vec3& axis_i, double radius, std::vector<uint32_t>& out) const {
+  out.clear();
+  const std::size_t n = stars_.size();
+  if (n == 0 || !(radius >= 0)) return;
+  const Vec3 w = axis_i.normalized();
+  const double cos_r = std::cos(radius);
+  if (radius >= kPi) {
+    out.resize(n);
+    std::iota(out.begin(), out.end(), 0u);
+    return;
+  }
+  // Seed 002 spherical-polygon search: a star within `radius` of w has, on each axis c, an
+  // angle to that axis within [alpha_c - r, alpha_c + r] (alpha_c = acos w_c), i.e. its
+  // coordinate lies in a slab found by the k-vector on that coordinate. Take the thinnest
+  // of the three slabs and test the candidates in it.
+  std::pair<std::size_t, std::size_t> best{0, n};
+  int best_c = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double alpha = std::acos(std::clamp(w[c], -1.0, 1.0));
+    const double lo = std::cos(std::min(kPi, alpha + radius)) - 1e-12;
+    const double hi = std::cos(std::max(0.0, alpha - radius)) + 1e-12;
+    const auto r = axis_[c].kv.range(lo, hi, [&](std::size_t k) { return axis_[c].coord[k]; });
+    if (r.second - r.first < best.second - best.first) {
+      best = r;
+      best_c = c;
+    }
+  }
+  const AxisIndex& ax = axis_[best_c];
+  for (std::size_t k = best.first; k < best.second; ++k)
+    if (ax.u[k].dot(w) >= cos_r) out.push_back(ax.order[k]);
+  std::sort(out.begin(), out.end());
+}
+
+void StarDatabase::rectangleQuery(const Quat& q_ib, double tan_half_x, double tan_half_y,
+                                  std::vector<uint32_t>& out) const {
+  const Mat3 R_ib = q_ib.normalized().toRotationMatrix();
+  const Vec3 boresight_i = R_ib.col(2);
+  coneQuery(boresight_i, std::atan(std::hypot(tan_half_x, tan_half_y)), out);
+  std::size_t kept = 0;
+  for (uint32_t idx : out) {
+    const Vec3 v_c = R_ib.transpose() * stars_[idx].u_i;
+    if (v_c.z() > 0 && std::fabs(v_c.x()) <= tan_half_x * v_c.z() &&
+        std::fabs(v_c.y()) <= tan_half_y * v_c.z())
+      out[kept++] = idx;
+  }
+  out.resize(kept);
+}
+
+}  // namespace st

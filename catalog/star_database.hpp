@@ -1,0 +1,125 @@
+/// @file star_database.hpp
+/// The on-board star database built by the ground program (seed 000 "GP"): the selected stars
+/// at the observation epoch, the sorted star-pair array with its k-vector (seed 000 eqs.
+/// 11-14), a cone/FOV index (seed 002 spherical-polygon search: k-vectors on x, y, z) and the
+/// star-neighbourhood table (seed 002 Table I). Built once by `startracker catalog build`,
+/// saved as one versioned binary file and loaded in milliseconds.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "catalog/kvector.hpp"
+#include "catalog/star_catalog.hpp"
+#include "common/attitude.hpp"
+
+namespace st {
+
+struct Star {
+  uint32_t id;  ///< catalog id (HIP or HR); for a merged double star the brightest member's
+  Vec3 u_i;     ///< unit vector, ICRS at the database epoch
+  float mag;    ///< V magnitude (combined for a merged double star)
+};
+
+struct StarPair {
+  uint32_t a, b;  ///< indices into stars(), a < b
+  float theta;    ///< [rad] separation
+};
+static_assert(sizeof(StarPair) == 12, "StarPair is stored 12 bytes per pair");
+
+struct PairSlice {
+  const StarPair* begin;
+  const StarPair* end;
+  std::size_t size() const { return std::size_t(end - begin); }
+};
+
+struct DatabaseParams {
+  double max_pair_angle;         ///< [rad] pairs up to this separation (camera diagonal FOV + margin)
+  double mag_limit;              ///< keep V <= mag_limit
+  double epoch_jyear;            ///< observation epoch for proper motion / aberration
+  bool aberration = true;        ///< annual aberration on
+  double double_star_sep;        ///< [rad] merge closer stars (seed 004 eq. 6.1/6.2); 0 = off
+  int max_stars_per_region = 0;  ///< 0 = no uniform-density reduction
+  double neighbour_radius;       ///< [rad] for the neighbour table (seed 002)
+  // --- additions ---
+  bool parallax = true;      ///< annual parallax (observer at the Earth, not the barycentre)
+  double region_radius = 0;  ///< [rad] cone of the density reduction; 0 = max_pair_angle / 2
+};
+
+/// Counts at each step of DatabaseParams-driven selection (what `catalog info` prints).
+struct BuildReport {
+  std::string catalog_name;
+  double catalog_epoch_jyear = 0;
+  std::size_t catalog_entries = 0;        ///< entries with a position in the catalog
+  std::size_t skipped_no_position = 0;    ///< catalog entries without a position
+  std::size_t merge_candidates = 0;       ///< V <= mag_limit + merge margin, entering the merge
+  std::size_t double_star_groups = 0;     ///< groups of >= 2 stars merged into one
+  std::size_t stars_merged_away = 0;      ///< stars absorbed into a brighter member
+  std::size_t after_mag_limit = 0;        ///< after the merge, V <= mag_limit
+  std::size_t after_density = 0;          ///< after the uniform-density reduction
+  std::size_t pairs = 0;
+  std::size_t kvector_size = 0;
+  std::size_t neighbour_entries = 0;
+  double build_seconds = 0;
+};
+
+class StarDatabase {
+ public:
+  static StarDatabase build(const StarCatalog&, const DatabaseParams&);
+  static std::string defaultCatalogPath();  ///< catalog/data/hip_main_v6.6.dat.gz
+  /// Writes the versioned binary file; throws InputError if it cannot be written.
+  void save(const std::string& path) const;
+  /// InputError (naming the file) on bad magic/version/checksum or a truncated file.
+  static StarDatabase load(const std::string& path);
+
+  const std::vector<Star>& stars() const { return stars_; }  ///< sorted brightest first
+  const DatabaseParams& params() const { return params_; }
+  const BuildReport& report() const { return report_; }
+  /// All pairs sorted by theta (ascending).
+  const std::vector<StarPair>& pairs() const { return pairs_; }
+  const KVector& pairKVector() const { return pair_kv_; }
+
+  /// Pairs with theta in [theta_lo, theta_hi]: k-vector, O(1 + matches), exact w.r.t. the
+  /// stored float theta.
+  PairSlice pairsInRange(double theta_lo, double theta_hi) const;
+
+  /// Indices of the stars within `radius` of `axis_i` (unit vector), ascending (= brightest
+  /// first). `out` is cleared first.
+  void coneQuery(const Vec3& axis_i, double radius, std::vector<uint32_t>& out) const;
+
+  /// Indices of the stars whose gnomonic projection lies in the rectangle
+  /// |x/z| <= tan_half_x, |y/z| <= tan_half_y of the camera at attitude q_ib (camera +z the
+  /// boresight, conventions.hpp), ascending. A pinhole approximation of the image rectangle:
+  /// pad the half-angles for distortion.
+  void rectangleQuery(const Quat& q_ib, double tan_half_x, double tan_half_y,
+                      std::vector<uint32_t>& out) const;
+
+  /// Neighbours of star i within params().neighbour_radius, nearest first (seed 002 Table I).
+  const uint32_t* neighboursBegin(uint32_t i) const { return nbr_.data() + nbr_start_[i]; }
+  const uint32_t* neighboursEnd(uint32_t i) const { return nbr_.data() + nbr_start_[i + 1]; }
+
+ private:
+  void buildIndexes();  ///< axis-sorted arrays + k-vectors from stars_ (also after load)
+  void buildPairs();
+  void buildNeighbours();
+
+  DatabaseParams params_{};
+  BuildReport report_;
+  std::vector<Star> stars_;
+  std::vector<StarPair> pairs_;
+  KVector pair_kv_;
+  // Cone index (seed 002): for each axis c, star indices sorted by u_i[c], the sorted
+  // coordinates, and the k-vector on them; plus coordinates in that order for a tight loop.
+  struct AxisIndex {
+    std::vector<uint32_t> order;
+    std::vector<Vec3> u;     ///< u_i of order[k], contiguous for the candidate loop
+    std::vector<double> coord;
+    KVector kv;
+  };
+  AxisIndex axis_[3];
+  std::vector<uint32_t> nbr_start_{0};
+  std::vector<uint32_t> nbr_;
+};
+
+}  // namespace st
