@@ -1,0 +1,171 @@
+#include "sensors/mrpt/observation_star_tracker.hpp"
+
+#include <mrpt/math/CVectorFixed.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/serialization/stl_serialization.h>
+
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+
+#include "common/conventions.hpp"
+#include "common/mrpt_convert.hpp"
+
+namespace st {
+
+IMPLEMENTS_SERIALIZABLE(CObservationStarTracker, mrpt::obs::CObservation, st)
+
+const char* toString(StarTrackerMode mode) {
+  switch (mode) {
+    case StarTrackerMode::kLostInSpace:
+      return "lost-in-space";
+    case StarTrackerMode::kTracking:
+      return "tracking";
+    case StarTrackerMode::kFailed:
+      return "failed";
+  }
+  return "unknown";
+}
+
+void CObservationStarTracker::setWriteVersion(uint8_t v) {
+  if (v > kCurrentVersion) {
+    throw std::invalid_argument("CObservationStarTracker: no serialization version " +
+                                std::to_string(v));
+  }
+  write_version_ = v;
+}
+
+uint8_t CObservationStarTracker::serializeGetVersion() const { return write_version_; }
+
+namespace {
+// CArchive has no operators for Eigen or CQuaternion (MRPT-NOTES.md): write the doubles.
+void writeVec(mrpt::serialization::CArchive& out, const double* p, int n) {
+  for (int i = 0; i < n; ++i) out << p[i];
+}
+void readVec(mrpt::serialization::CArchive& in, double* p, int n) {
+  for (int i = 0; i < n; ++i) in >> p[i];
+}
+}  // namespace
+
+void CObservationStarTracker::serializeTo(mrpt::serialization::CArchive& out) const {
+  const uint8_t version = serializeGetVersion();
+  // The base class serializes none of timestamp, sensorLabel or the pose (MRPT-NOTES.md).
+  out << timestamp << sensorLabel;
+  // The pose as its 3x4 matrix: exact, unlike a round trip through yaw/pitch/roll.
+  mrpt::math::CVectorFixedDouble<12> pose12;
+  sensor_pose.getAs12Vector(pose12);
+  writeVec(out, &pose12[0], 12);
+  out << static_cast<uint8_t>(mode) << reason;
+  // q_ib stored scalar first (w, x, y, z) as in MRPT's CQuaternion.
+  out << q_ib.w() << q_ib.x() << q_ib.y() << q_ib.z();
+  writeVec(out, cov_body.data(), 9);
+  out << static_cast<uint32_t>(stars.size());
+  for (const MatchedStar& s : stars) {
+    out << s.catalog_id;
+    writeVec(out, s.px.data(), 2);
+    writeVec(out, s.v_cam.data(), 3);
+    out << s.residual;
+  }
+  out << num_blobs;
+  if (version >= 1) out << timings.detect << timings.identify << timings.attitude << timings.total;
+}
+
+void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
+                                            uint8_t version) {
+  switch (version) {
+    case 0:
+    case 1: {
+      in >> timestamp >> sensorLabel;
+      mrpt::math::CVectorFixedDouble<12> pose12;
+      readVec(in, &pose12[0], 12);
+      sensor_pose = mrpt::poses::CPose3D(pose12);
+      uint8_t m = 0;
+      in >> m >> reason;
+      if (m > static_cast<uint8_t>(StarTrackerMode::kFailed)) {
+        THROW_EXCEPTION_FMT("CObservationStarTracker: bad mode value %u", unsigned(m));
+      }
+      mode = static_cast<StarTrackerMode>(m);
+      double w, x, y, z;
+      in >> w >> x >> y >> z;
+      q_ib = Quat(w, x, y, z);
+      readVec(in, cov_body.data(), 9);
+      uint32_t n = 0;
+      in >> n;
+      stars.assign(n, MatchedStar{});
+      for (MatchedStar& s : stars) {
+        in >> s.catalog_id;
+        readVec(in, s.px.data(), 2);
+        readVec(in, s.v_cam.data(), 3);
+        in >> s.residual;
+      }
+      in >> num_blobs;
+      timings = StageTimings{};  // version 0 had no timings
+      if (version >= 1) {
+        in >> timings.detect >> timings.identify >> timings.attitude >> timings.total;
+      }
+      // A read object is written back in the layout it came in, so copies stay bit-exact.
+      write_version_ = version;
+    } break;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+bool CObservationStarTracker::sameContent(const CObservationStarTracker& o) const {
+  return timestamp == o.timestamp && sensorLabel == o.sensorLabel &&
+         sensor_pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>() ==
+             o.sensor_pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>() &&
+         mode == o.mode && reason == o.reason && q_ib.coeffs() == o.q_ib.coeffs() &&
+         cov_body == o.cov_body && stars == o.stars && num_blobs == o.num_blobs &&
+         timings == o.timings;
+}
+
+void CObservationStarTracker::getDescriptionAsText(std::ostream& o) const {
+  CObservation::getDescriptionAsText(o);
+  const auto flags = o.flags();
+  const auto prec = o.precision();
+  o << "Sensor pose on the vehicle (x y z yaw pitch roll [m, deg]): " << sensor_pose << "\n";
+  o << "Mode: " << toString(mode) << "\n";
+  o << "Reason: " << (reason.empty() ? "(none)" : reason) << "\n";
+  if (hasAttitude()) {
+    o << std::setprecision(12);
+    o << "q_ib (w x y z): " << q_ib.w() << " " << q_ib.x() << " " << q_ib.y() << " " << q_ib.z()
+      << "  (as MRPT pose: " << toPose3DQuat(q_ib) << ")\n";
+    const RaDecRoll rdr = raDecRollFromAttitude(q_ib);
+    o << std::fixed << std::setprecision(6);
+    o << "Boresight RA / Dec / roll [deg]: " << rad2deg(rdr.ra) << " / " << rad2deg(rdr.dec)
+      << " / " << rad2deg(rdr.roll) << "\n";
+    const AttitudeSigma sig = attitudeSigma(cov_body);
+    o << std::setprecision(3);
+    o << "1-sigma cross-boresight / roll [arcsec]: " << rad2arcsec(sig.cross_boresight) << " / "
+      << rad2arcsec(sig.roll) << "\n";
+    o.flags(flags);
+    o << std::setprecision(6);
+    o << "Covariance (body frame) [rad^2]:\n";
+    for (int r = 0; r < 3; ++r) {
+      o << "  " << cov_body(r, 0) << " " << cov_body(r, 1) << " " << cov_body(r, 2) << "\n";
+    }
+  } else {
+    o << "No attitude in this frame.\n";
+  }
+  o.flags(flags);
+  o << std::fixed << std::setprecision(3);
+  o << "Detected blobs: " << num_blobs << "\n";
+  o << "Timings [ms]: detect " << 1e3 * timings.detect << ", identify " << 1e3 * timings.identify
+    << ", attitude " << 1e3 * timings.attitude << ", total " << 1e3 * timings.total << "\n";
+  o << "Matched stars: " << stars.size() << "\n";
+  if (!stars.empty()) {
+    o << "  catalog_id        x [px]        y [px]   v_cam (x y z)                       "
+         "residual [arcsec]\n";
+  }
+  for (const MatchedStar& s : stars) {
+    o << "  " << std::setw(10) << s.catalog_id << " " << std::setw(13) << s.px.x() << " "
+      << std::setw(13) << s.px.y() << "   " << std::setprecision(8) << s.v_cam.x() << " "
+      << s.v_cam.y() << " " << s.v_cam.z() << "   " << std::setprecision(3)
+      << rad2arcsec(s.residual) << "\n";
+  }
+  o.flags(flags);
+  o.precision(prec);
+}
+
+}  // namespace st

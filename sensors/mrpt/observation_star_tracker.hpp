@@ -1,0 +1,103 @@
+/// @file observation_star_tracker.hpp
+/// `st::CObservationStarTracker`: one star-tracker fix as an MRPT observation, so that it can
+/// be stored in rawlogs (label `STAR_TRACKER`), shown in RawLogViewer and read by the stock
+/// tools through the plugin (sensors/mrpt/plugin/).
+///
+/// Registration is manual (MRPT-NOTES.md): call st::registerStarTrackerClasses() (rawlog_io.hpp)
+/// before reading a rawlog, or MRPT's CRawlog silently stops at the first such object.
+///
+/// Serialization versions (serializeGetVersion returns kCurrentVersion unless a writer asks
+/// for an older layout with setWriteVersion):
+///   0: timestamp, label, sensor pose, mode, reason, q_ib, covariance, stars, blobs
+///   1: + per-stage timings (version-0 objects read with timings = 0)
+#pragma once
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CSerializable.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/attitude.hpp"
+
+namespace st {
+
+/// How the fix was obtained.
+enum class StarTrackerMode : uint8_t {
+  kLostInSpace = 0,  ///< full-frame detection + lost-in-space identification
+  kTracking = 1,     ///< predicted windows + recursive identification
+  kFailed = 2,       ///< no attitude this frame (see `reason`)
+};
+/// "lost-in-space", "tracking", "failed".
+const char* toString(StarTrackerMode mode);
+
+/// One identified star of the fix.
+struct MatchedStar {
+  uint32_t catalog_id = 0;      ///< HIP or HR number (catalog/star_catalog.hpp)
+  Vec2 px = Vec2::Zero();       ///< [px] measured centroid
+  Vec3 v_cam = Vec3::UnitZ();   ///< measured unit vector in the camera frame
+  double residual = 0;          ///< [rad] angle between measured and fitted catalog direction
+  bool operator==(const MatchedStar& o) const {
+    return catalog_id == o.catalog_id && px == o.px && v_cam == o.v_cam && residual == o.residual;
+  }
+};
+
+/// Wall-clock time spent in each stage of the frame [s].
+struct StageTimings {
+  double detect = 0, identify = 0, attitude = 0, total = 0;
+  bool operator==(const StageTimings& o) const {
+    return detect == o.detect && identify == o.identify && attitude == o.attitude &&
+           total == o.total;
+  }
+};
+
+class CObservationStarTracker : public mrpt::obs::CObservation {
+  DEFINE_SERIALIZABLE(CObservationStarTracker, st)
+
+ public:
+  static constexpr uint8_t kCurrentVersion = 1;
+
+  CObservationStarTracker() = default;
+
+  StarTrackerMode mode = StarTrackerMode::kFailed;
+  std::string reason;  ///< why it failed, or notes ("" when all went well)
+
+  /// Attitude of the body in the inertial frame, v_i = R(q_ib) v_b (conventions.hpp). Only
+  /// meaningful when hasAttitude().
+  Quat q_ib = Quat::Identity();
+  /// 3x3 covariance of the body-frame rotation error [rad^2].
+  Mat3 cov_body = Mat3::Zero();
+
+  std::vector<MatchedStar> stars;
+  int32_t num_blobs = 0;  ///< blobs (or windows with a centroid) found in the image
+  StageTimings timings;
+
+  /// Pose of the camera on the vehicle (body frame); identity by default.
+  mrpt::poses::CPose3D sensor_pose;
+
+  bool hasAttitude() const { return mode != StarTrackerMode::kFailed; }
+
+  void getSensorPose(mrpt::poses::CPose3D& out_sensorPose) const override {
+    out_sensorPose = sensor_pose;
+  }
+  void setSensorPose(const mrpt::poses::CPose3D& p) override { sensor_pose = p; }
+  using CObservation::getSensorPose;
+  using CObservation::setSensorPose;
+
+  /// Shown by RawLogViewer and `rawlog-edit --info`-style tools.
+  void getDescriptionAsText(std::ostream& o) const override;
+
+  /// Layout written by serializeTo (default kCurrentVersion). Older numbers exist so files for
+  /// older readers can be produced and so the old-version load path stays tested.
+  void setWriteVersion(uint8_t v);
+  uint8_t writeVersion() const { return write_version_; }
+
+  /// All fields equal (exact comparison; timestamps compared as ticks).
+  bool sameContent(const CObservationStarTracker& o) const;
+
+ private:
+  uint8_t write_version_ = kCurrentVersion;
+};
+
+}  // namespace st
