@@ -1,0 +1,103 @@
+// The database file: round trip, and refusal of corrupt / other-version / foreign files.
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "catalog/star_database.hpp"
+#include "common/errors.hpp"
+#include "tests/catalog/catalog_fixture.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace st {
+namespace {
+
+std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+void writeBytes(const std::string& path, const std::string& b) {
+  std::ofstream(path, std::ios::binary).write(b.data(), std::streamsize(b.size()));
+}
+std::string loadError(const std::string& path) {
+  try {
+    StarDatabase::load(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(StarDatabaseFile, RoundTripIsExact) {
+  const StarDatabase& db = test::hipDatabase15();
+  const std::string path = test::makeTempDir("catalog") + "/db.stdb";
+  db.save(path);
+  const auto bytes = std::filesystem::file_size(path);
+  std::printf("[ info ] database file %.2f MB (%zu stars, %zu pairs)\n", bytes / 1e6,
+              db.stars().size(), db.pairs().size());
+  EXPECT_LT(bytes, 10u * 1000 * 1000);
+  const StarDatabase back = StarDatabase::load(path);
+  ASSERT_EQ(back.stars().size(), db.stars().size());
+  for (std::size_t i = 0; i < db.stars().size(); ++i) {
+    ASSERT_EQ(back.stars()[i].id, db.stars()[i].id);
+    ASSERT_EQ(back.stars()[i].u_i, db.stars()[i].u_i);
+    ASSERT_EQ(back.stars()[i].mag, db.stars()[i].mag);
+  }
+  ASSERT_EQ(back.pairs().size(), db.pairs().size());
+  ASSERT_EQ(0, std::memcmp(back.pairs().data(), db.pairs().data(),
+                           db.pairs().size() * sizeof(StarPair)));
+  EXPECT_EQ(back.pairKVector().table(), db.pairKVector().table());
+  for (uint32_t i = 0; i < db.stars().size(); ++i)
+    ASSERT_TRUE(std::equal(db.neighboursBegin(i), db.neighboursEnd(i), back.neighboursBegin(i),
+                           back.neighboursEnd(i)));
+  EXPECT_EQ(back.params().max_pair_angle, db.params().max_pair_angle);
+  EXPECT_EQ(back.params().mag_limit, db.params().mag_limit);
+  EXPECT_EQ(back.params().epoch_jyear, db.params().epoch_jyear);
+  EXPECT_EQ(back.params().aberration, db.params().aberration);
+  EXPECT_EQ(back.params().double_star_sep, db.params().double_star_sep);
+  EXPECT_EQ(back.params().neighbour_radius, db.params().neighbour_radius);
+  EXPECT_EQ(back.report().catalog_name, db.report().catalog_name);
+  EXPECT_EQ(back.report().catalog_epoch_jyear, 1991.25);
+  EXPECT_EQ(back.report().after_mag_limit, db.report().after_mag_limit);
+  std::vector<uint32_t> a, b;
+  db.coneQuery(db.stars()[5].u_i, 0.1, a);
+  back.coneQuery(db.stars()[5].u_i, 0.1, b);
+  EXPECT_EQ(a, b);
+}
+
+TEST(StarDatabaseFile, RefusesCorruptOtherVersionAndForeignFiles) {
+  const std::string dir = test::makeTempDir("catalog");
+  const std::string good = dir + "/good.stdb";
+  test::hipDatabase15().save(good);
+  const std::string bytes = readBytes(good);
+  EXPECT_EQ(loadError(good), "");  // the intact file loads (the checks below have teeth)
+
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x10;
+  writeBytes(dir + "/flip.stdb", flipped);
+  EXPECT_NE(loadError(dir + "/flip.stdb").find("checksum"), std::string::npos);
+
+  writeBytes(dir + "/cut.stdb", bytes.substr(0, bytes.size() - 1000));
+  EXPECT_NE(loadError(dir + "/cut.stdb").find("cut.stdb"), std::string::npos);
+
+  // Another format version, with a checksum that is right for the changed bytes.
+  std::string v2 = bytes.substr(0, bytes.size() - 4);
+  const uint32_t version = 2;
+  std::memcpy(&v2[8], &version, 4);
+  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v2.data()), uInt(v2.size())));
+  v2.append(reinterpret_cast<const char*>(&crc), 4);
+  writeBytes(dir + "/v2.stdb", v2);
+  const std::string msg = loadError(dir + "/v2.stdb");
+  EXPECT_NE(msg.find("version 2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("v2.stdb"), std::string::npos) << msg;
+
+  writeBytes(dir + "/foreign.stdb", "hello, not a database at all........");
+  EXPECT_NE(loadError(dir + "/foreign.stdb").find("bad magic"), std::string::npos);
+  EXPECT_NE(loadError(dir + "/missing.stdb").find("cannot open"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace st
