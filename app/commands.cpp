@@ -4,9 +4,11 @@
 namespace st::app {
 
 void addCameraCommand(CLI::App& root, CommandRun& run);
+void addCatalogCommand(CLI::App& root, CommandRun& run);
 
 void addAllCommands(CLI::App& root, CommandRun& run) {
   addCameraCommand(root, run);
+  addCatalogCommand(root, run);
 }
 
 }  // namespace st::app

@@ -51,6 +51,14 @@ std::string StarDatabase::defaultCatalogPath() {
 }
 
 StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params) {
+  return build(cat, params, ProgressFn());
+}
+
+StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params,
+                                 const ProgressFn& progress) {
+  auto say = [&](const std::string& m) {
+    if (progress) progress(m);
+  };
   checkParams(params);
   const auto t0 = std::chrono::steady_clock::now();
   StarDatabase db;
@@ -64,6 +72,8 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   // 1. Candidates, corrected to the observation epoch (proper motion, parallax, aberration).
   const double merge_limit =
       params.double_star_sep > 0 ? params.mag_limit + kMergeMagMargin : params.mag_limit;
+  say("correcting " + std::to_string(cat.entries.size()) + " catalog positions to epoch " +
+      std::to_string(params.epoch_jyear));
   const EarthState earth = earthBarycentricState(params.epoch_jyear);
   std::vector<SelectedStar> sel;
   for (const CatalogEntry& e : cat.entries) {
@@ -76,6 +86,7 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   rep.merge_candidates = sel.size();
 
   // 2. Double stars (seed 004 eqs. 6.1/6.2), then 3. the magnitude limit on the blends.
+  say("merging double stars among " + std::to_string(sel.size()) + " candidates");
   sel = mergeDoubleStars(sel, params.double_star_sep, &rep.double_star_groups,
                          &rep.stars_merged_away);
   sel.erase(std::remove_if(sel.begin(), sel.end(),
@@ -96,6 +107,8 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
         params.region_radius > 0 ? params.region_radius : params.max_pair_angle / 2;
     const double step = std::min(deg2rad(1.0), radius / 4);  // the seed sweeps 1 deg steps
     const std::size_t n_centres = std::size_t(std::ceil(4 * kPi / (step * step)));
+    say("uniform density: keeping the " + std::to_string(params.max_stars_per_region) +
+        " brightest stars in each of " + std::to_string(n_centres) + " cones");
     std::vector<char> keep(db.stars_.size(), 0);
     std::vector<uint32_t> in_cone;
     for (const Vec3& c : fibonacciSphere(n_centres)) {
@@ -112,7 +125,9 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   rep.after_density = db.stars_.size();
 
   // 5. Pairs + k-vector, 6. neighbour table.
+  say("building star pairs and k-vector for " + std::to_string(db.stars_.size()) + " stars");
   db.buildPairs();
+  say("building the neighbour table (" + std::to_string(db.pairs_.size()) + " pairs)");
   db.buildNeighbours();
   rep.pairs = db.pairs_.size();
   rep.kvector_size = db.pair_kv_.size();

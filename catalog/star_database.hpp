@@ -7,6 +7,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,9 @@ struct BuildReport {
 class StarDatabase {
  public:
   static StarDatabase build(const StarCatalog&, const DatabaseParams&);
+  /// The same, calling `progress` with a one-line message before each step (for the CLI).
+  using ProgressFn = std::function<void(const std::string&)>;
+  static StarDatabase build(const StarCatalog&, const DatabaseParams&, const ProgressFn& progress);
   static std::string defaultCatalogPath();  ///< catalog/data/hip_main_v6.6.dat.gz
   /// Writes the versioned binary file; throws InputError if it cannot be written.
   void save(const std::string& path) const;
