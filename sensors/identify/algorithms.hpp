@@ -1,0 +1,28 @@
+/// @file algorithms.hpp
+/// Factories of the identification algorithms, one per file; the registry table
+/// (registry.cpp) lists them. Internal to sensors/identify/.
+#pragma once
+#include <memory>
+
+#include "sensors/identify/identifier.hpp"
+
+namespace st::identify_detail {
+
+std::unique_ptr<StarIdentifier> makePyramid(const IdentifyOptions& o);
+std::unique_ptr<StarIdentifier> makeVoting(const IdentifyOptions& o);
+std::unique_ptr<StarIdentifier> makeLiebe(const IdentifyOptions& o);
+std::unique_ptr<StarIdentifier> makePlanarTriangle(const IdentifyOptions& o);
+std::unique_ptr<StarIdentifier> makeSphericalTriangle(const IdentifyOptions& o);
+std::unique_ptr<StarIdentifier> makeNVertex(const IdentifyOptions& o);
+
+/// Mortari's index pattern for choosing triangles (i, j, k) among n stars: varies the
+/// spacing first so that one bad star (a spike) does not stall the search on it.
+template <class F>
+void forEachTriangle(int n, F&& f) {
+  for (int dj = 1; dj <= n - 2; ++dj)
+    for (int dk = 1; dk <= n - dj - 1; ++dk)
+      for (int i = 0; i + dj + dk < n; ++i)
+        if (f(i, i + dj, i + dj + dk)) return;
+}
+
+}  // namespace st::identify_detail

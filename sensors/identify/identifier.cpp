@@ -1,0 +1,222 @@
+#include "sensors/identify/identifier.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/conventions.hpp"
+#include "sensors/identify/search_context.hpp"
+
+namespace st {
+
+const char* toString(IdentifyStatus s) {
+  switch (s) {
+    case IdentifyStatus::Solved: return "solved";
+    case IdentifyStatus::TooFewStars: return "too_few_stars";
+    case IdentifyStatus::NoMatch: return "no_match";
+    case IdentifyStatus::Rejected: return "rejected";
+  }
+  return "unknown";
+}
+
+// ---- PartnerLists / StarCounter ----------------------------------------------------------
+
+void PartnerLists::reset(std::size_t n_stars) {
+  if (stamp_.size() != n_stars) {
+    stamp_.assign(n_stars, 0);
+    head_.assign(n_stars, kNone);
+    epoch_ = 0;
+  }
+}
+
+void PartnerLists::push(uint32_t a, uint32_t b) {
+  const uint32_t e = static_cast<uint32_t>(partner_.size());
+  partner_.push_back(b);
+  next_.push_back(has(a) ? head_[a] : kNone);
+  head_[a] = e;
+  stamp_[a] = epoch_;
+}
+
+void PartnerLists::build(const PairSlice& s) {
+  ++epoch_;
+  partner_.clear();
+  next_.clear();
+  for (const StarPair* p = s.begin; p != s.end; ++p) {
+    push(p->a, p->b);
+    push(p->b, p->a);
+  }
+}
+
+void StarCounter::reset(std::size_t n_stars) {
+  if (stamp_.size() != n_stars) {
+    stamp_.assign(n_stars, 0);
+    count_.assign(n_stars, 0);
+    tag_.assign(n_stars, 0);
+    epoch_ = 1;
+  }
+}
+
+// ---- SearchContext -------------------------------------------------------------------------
+
+SearchContext::SearchContext(const std::vector<StarObservation>& obs_, const StarDatabase& db_,
+                             const CameraModel& camera_, const IdentifyOptions& opt_,
+                             const Verifier& verifier, int n_used,
+                             std::vector<PartnerLists>& lists,
+                             std::vector<StarCounter>& counters)
+    : obs(obs_), db(db_), camera(camera_), opt(opt_), n(n_used), verifier_(verifier),
+      lists_(lists), counters_(counters) {
+  theta_.assign(n * n, 0);
+  tol_.assign(n * n, 0);
+  cos_lo_.assign(n * n, 2.0);
+  cos_hi_.assign(n * n, 2.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      const Vec3 &a = obs[i].v_cam, &b = obs[j].v_cam;
+      const double th = std::atan2(a.cross(b).norm(), a.dot(b));
+      // Seed 000 eq. (14): search [theta - eps, theta + eps]; eps from the two centroid
+      // sigmas (the angle error has variance sigma_i^2 + sigma_j^2) plus the scale slack.
+      const double eps = opt.pair_sigma * std::hypot(obs[i].sigma, obs[j].sigma) +
+                         opt.scale_tolerance * th;
+      theta_[i * n + j] = theta_[j * n + i] = th;
+      tol_[i * n + j] = tol_[j * n + i] = eps;
+      cos_lo_[i * n + j] = cos_lo_[j * n + i] = std::cos(std::min(kPi, th + eps));
+      cos_hi_[i * n + j] = cos_hi_[j * n + i] = std::cos(std::max(0.0, th - eps));
+    }
+}
+
+PairSlice SearchContext::slice(int i, int j) {
+  const double th = theta(i, j), eps = tol(i, j);
+  PairSlice s = db.pairsInRange(std::max(0.0, th - eps), th + eps);
+  candidates_ += static_cast<long>(s.size());
+  return s;
+}
+
+bool SearchContext::sameHandedness(int i, int j, int k, uint32_t a, uint32_t b,
+                                   uint32_t c) const {
+  const double so = v(i).dot(v(j).cross(v(k)));
+  const double sc = u(a).dot(u(b).cross(u(c)));
+  return (so > 0) == (sc > 0);
+}
+
+bool SearchContext::tryHypothesis(const std::vector<StarMatch>& seeds) {
+  any_hypothesis = true;
+  ++hypotheses;
+  const auto t0 = std::chrono::steady_clock::now();
+  VerificationResult r = verifier_.verifySeeds(obs, seeds, std::max(1.0, attitudes_));
+  verify_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (r.accepted) {
+    accepted = std::move(r);
+    solved = true;
+    return true;
+  }
+  if (hypotheses == 1 || r.matches.size() > best_rejected.matches.size()) best_rejected = r;
+  return false;
+}
+
+bool SearchContext::done() const {
+  return solved || hypotheses >= opt.max_verifications || candidates_ >= opt.max_candidates;
+}
+
+// ---- StarIdentifier --------------------------------------------------------------------------
+
+struct StarIdentifier::Scratch {
+  std::vector<PartnerLists> lists = std::vector<PartnerLists>(4);
+  std::vector<StarCounter> counters = std::vector<StarCounter>(4);
+  std::unique_ptr<WahbaSolver> solver;
+  std::string solver_name;
+};
+
+StarIdentifier::StarIdentifier(const IdentifyOptions& options) : options_(options) {}
+StarIdentifier::~StarIdentifier() = default;
+
+IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
+                                        const StarDatabase& db,
+                                        const CameraModel& camera) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  IdentifyResult res;
+  res.algorithm = name();
+  auto finishWith = [&](SearchContext& c) { return finishResult(c, res, t0); };
+  auto finish = [&] {
+    res.timing.total_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    res.timing.pattern_ms = std::max(0.0, res.timing.total_ms - res.timing.verify_ms);
+    return res;
+  };
+  if (!scratch_) scratch_ = std::make_unique<Scratch>();
+  Scratch& sc = *scratch_;
+  if (!sc.solver || sc.solver_name != options_.solver) {
+    std::string err;
+    sc.solver = WahbaSolver::create(options_.solver, &err);
+    sc.solver_name = options_.solver;
+    if (!sc.solver) {
+      res.reason = "unknown attitude solver '" + options_.solver + "': " + err;
+      return finish();
+    }
+  }
+  const int n = std::min<int>(static_cast<int>(obs.size()), std::max(3, options_.max_stars));
+  res.stars_used = n;
+  if (n < minStars() || static_cast<int>(obs.size()) < options_.verify.min_matches) {
+    res.status = IdentifyStatus::TooFewStars;
+    res.reason = std::to_string(obs.size()) + " stars observed, " + name() + " needs at least " +
+                 std::to_string(std::max(minStars(), options_.verify.min_matches));
+    return finish();
+  }
+  for (auto& l : sc.lists) l.reset(db.stars().size());
+  for (auto& c : sc.counters) c.reset(db.stars().size());
+
+  VerifyOptions vopt = options_.verify;
+  vopt.scale_tolerance = std::max(vopt.scale_tolerance, options_.scale_tolerance);
+  const Verifier verifier(db, camera, *sc.solver, vopt);
+  SearchContext ctx(obs, db, camera, options_, verifier, n, sc.lists, sc.counters);
+  doIdentify(ctx);
+  // Bright false stars (or missing catalog stars) can spoil every pattern among the
+  // brightest few: search once more over more stars before giving up.
+  const int n_retry = std::min<int>(static_cast<int>(obs.size()), options_.max_stars_retry);
+  if (!ctx.solved && n_retry > n && ctx.hypotheses < options_.max_verifications) {
+    SearchContext wide(obs, db, camera, options_, verifier, n_retry, sc.lists, sc.counters);
+    wide.addAttitudes(ctx.attitudesExamined());
+    wide.hypotheses = ctx.hypotheses;
+    wide.verify_seconds = ctx.verify_seconds;
+    wide.any_hypothesis = ctx.any_hypothesis;
+    wide.best_rejected = ctx.best_rejected;
+    doIdentify(wide);
+    res.stars_used = n_retry;
+    return finishWith(wide);
+  }
+  return finishWith(ctx);
+}
+
+IdentifyResult StarIdentifier::finishResult(SearchContext& ctx, IdentifyResult res,
+                                            std::chrono::steady_clock::time_point t0) const {
+  res.hypotheses_tried = ctx.hypotheses;
+  res.attitudes_examined = ctx.attitudesExamined();
+  res.timing.verify_ms = ctx.verify_seconds * 1e3;
+  const VerificationResult& v = ctx.solved ? ctx.accepted : ctx.best_rejected;
+  if (ctx.solved) {
+    res.status = IdentifyStatus::Solved;
+  } else if (ctx.any_hypothesis) {
+    res.status = IdentifyStatus::Rejected;
+    res.reason = "no hypothesis passed verification (" + std::to_string(ctx.hypotheses) +
+                 " tried; best: " + v.reason + ")";
+  } else {
+    res.status = IdentifyStatus::NoMatch;
+    res.reason = "no catalog pattern matches the " + std::to_string(ctx.n) + " brightest stars";
+  }
+  if (ctx.any_hypothesis) {
+    res.q_ib = v.q_ib;
+    res.cov_body = v.cov_body;
+    res.matches = v.matches;
+    res.false_match_probability = v.false_match_probability;
+    res.rms_residual = v.rms_residual;
+    res.rms_residual_px = v.rms_residual_px;
+  }
+  if (!ctx.solved) {
+    // Never hand out an unverified attitude as if it were one.
+    res.matches.clear();
+  }
+  res.timing.total_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  res.timing.pattern_ms = std::max(0.0, res.timing.total_ms - res.timing.verify_ms);
+  return res;
+}
+
+}  // namespace st

@@ -1,0 +1,106 @@
+/// @file identifier.hpp
+/// Lost-in-space star identification: observations (camera-frame unit vectors with sigmas)
+/// + star database + camera -> identified stars and a verified attitude. Every algorithm
+/// only proposes hypotheses ("these observations are these catalog stars"); the base class
+/// verifies each one with the shared Verifier (verify.hpp), keeps the bookkeeping and the
+/// timings, and stops at the first hypothesis whose false-match probability is below the
+/// threshold. An implementer overrides doIdentify() and calls ctx.tryHypothesis().
+///
+/// Algorithms (one registry table, registry.cpp): "pyramid" (default), "voting", "liebe",
+/// "planar", "spherical", "nvertex". Star pairs come from StarDatabase::pairsInRange (the
+/// k-vector) with a tolerance of `pair_sigma` standard deviations of the inter-star angle.
+///
+/// Thread safety: an identifier keeps scratch buffers between calls; use one per thread.
+#pragma once
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "catalog/star_database.hpp"
+#include "sensors/camera/camera_model.hpp"
+#include "sensors/identify/star_match.hpp"
+#include "sensors/identify/star_observation.hpp"
+#include "sensors/identify/verify.hpp"
+
+namespace st {
+
+enum class IdentifyStatus {
+  Solved,       ///< a hypothesis passed verification
+  TooFewStars,  ///< fewer observations than the algorithm needs
+  NoMatch,      ///< no pattern of the catalog fits the observations
+  Rejected,     ///< patterns fitted, but every hypothesis failed verification
+};
+const char* toString(IdentifyStatus s);
+
+struct IdentifyOptions {
+  double pair_sigma = 4.0;       ///< pair tolerance, in sigma of the inter-star angle
+  double scale_tolerance = 0.0;  ///< relative focal-length uncertainty (FOV search): widens
+                                 ///< pair tolerances by scale_tolerance * angle
+  int max_stars = 12;            ///< brightest observations used to form patterns
+  int max_stars_retry = 30;      ///< when those fail, one more search over this many
+  int max_verifications = 300;   ///< hypotheses verified before giving up
+  long max_candidates = 2000000; ///< pattern candidates examined before giving up
+  std::string solver = "quest";  ///< Wahba solver (sensors/attitude/wahba.hpp)
+  VerifyOptions verify;          ///< scale_tolerance is copied from above
+};
+
+struct IdentifyTimings {
+  double pattern_ms = 0;  ///< pattern search (k-vector lookups, voting, ...)
+  double verify_ms = 0;   ///< verification and attitude refinement
+  double total_ms = 0;
+};
+
+struct IdentifyResult {
+  IdentifyStatus status = IdentifyStatus::NoMatch;
+  std::string reason;                  ///< empty when solved
+  std::string algorithm;
+  Quat q_ib = Quat::Identity();
+  Mat3 cov_body = Mat3::Zero();        ///< [rad^2] body frame (conventions.hpp)
+  std::vector<StarMatch> matches;      ///< sorted by observation index
+  double false_match_probability = 1;  ///< of the accepted (or best rejected) hypothesis
+  double rms_residual = 0;             ///< [rad]
+  double rms_residual_px = 0;          ///< [px]
+  int hypotheses_tried = 0;            ///< hypotheses verified
+  double attitudes_examined = 0;       ///< candidate attitudes the search looked at
+  int stars_used = 0;                  ///< observations used to form patterns
+  IdentifyTimings timing;
+  bool solved() const { return status == IdentifyStatus::Solved; }
+};
+
+class SearchContext;
+
+class StarIdentifier {
+ public:
+  virtual ~StarIdentifier();
+  /// Non-virtual entry: sets up the search, runs doIdentify(), fills the result.
+  IdentifyResult identify(const std::vector<StarObservation>& obs, const StarDatabase& db,
+                          const CameraModel& camera) const;
+
+  virtual std::string name() const = 0;
+  const IdentifyOptions& options() const { return options_; }
+  IdentifyOptions& mutableOptions() { return options_; }
+
+  /// nullptr (and *error set) for an unknown name.
+  static std::unique_ptr<StarIdentifier> create(const std::string& name,
+                                                const IdentifyOptions& options = {},
+                                                std::string* error = nullptr);
+  static std::vector<std::string> names();  ///< from the registry table, default first
+  static std::string help();                ///< "name: one line" per algorithm
+  static std::string defaultName() { return "pyramid"; }
+
+ protected:
+  explicit StarIdentifier(const IdentifyOptions& options);
+  /// Smallest number of observations the algorithm needs.
+  virtual int minStars() const { return 4; }
+
+ private:
+  virtual void doIdentify(SearchContext& ctx) const = 0;
+  IdentifyResult finishResult(SearchContext& ctx, IdentifyResult res,
+                              std::chrono::steady_clock::time_point t0) const;
+  IdentifyOptions options_;
+  struct Scratch;
+  mutable std::unique_ptr<Scratch> scratch_;
+};
+
+}  // namespace st
