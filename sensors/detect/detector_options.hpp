@@ -23,7 +23,7 @@ struct DetectorOptions {
   // --- background and threshold (seed 004 §4.1) ---
   double threshold_sigma = 5.0;  ///< k: a pixel is a candidate if value > background + k*sigma
   int background_tile_px = 128;  ///< tile side for the tiled median/MAD; 0 = one global value
-  int background_samples = 512;  ///< pixels sampled per tile (or globally x16): speed vs noise
+  int background_samples = 256;  ///< pixels sampled per tile (or globally x16): speed vs noise
   cv::Mat dark_frame;            ///< optional dark frame, same size and type, subtracted first
 
   /// Pre-filter of seed 004 §4.1 / §4.2.2, meant for low thresholds (k ~ 1-2):

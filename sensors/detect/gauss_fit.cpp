@@ -86,24 +86,28 @@ class GaussFitCentroider final : public Centroider {
       if (reason) *reason = "too few unsaturated pixels to fit";
       return false;
     }
-    for (int it = 0; it < 30; ++it) {
+    // Each trial builds its normal equations with the weights of the current estimate, so an
+    // accepted trial is reused as the next linearisation (weights lag one step; at the fixed
+    // point they are the model's, as ML requires).
+    for (int it = 0; it < 20; ++it) {
       Mat5 A = N.H;
       A.diagonal() *= (1.0 + lambda);
       const Vec5 d = A.ldlt().solve(N.g);
       if (!d.allFinite()) break;
       Vec5 q = p + d;
       q[4] = std::clamp(q[4], 0.25, 20.0);
-      const Normal T = normal(P, q, p, false);  // same weights: a fair comparison
-      if (T.chi2 <= N.chi2) {
+      const Normal T = normal(P, q, p, true);
+      if (T.chi2 <= N.chi2 + 1e-12) {
         p = q;
+        N = T;
         lambda = std::max(lambda * 0.1, 1e-7);
-        N = normal(P, p, p, true);
-        if (d.head<2>().norm() < 1e-5 && std::abs(d[4]) < 1e-5) break;
+        if (d.head<2>().norm() < 1e-4 && std::abs(d[4]) < 1e-3) break;
       } else {
         lambda *= 10;
         if (lambda > 1e8) break;
       }
     }
+    N = normal(P, p, p, true);  // covariance with the weights at the solution
     const double ox = P.origin.x, oy = P.origin.y;
     if (!p.allFinite() || !(p[2] > 0) || p[0] < ox - 0.5 || p[1] < oy - 0.5 ||
         p[0] > ox + P.values.cols - 0.5 || p[1] > oy + P.values.rows - 0.5 || p[4] >= 20.0) {
