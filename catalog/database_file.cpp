@@ -10,7 +10,6 @@
 
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <type_traits>
 
 #include "catalog/star_database.hpp"
@@ -63,6 +62,13 @@ class Reader {
                        " at byte " + std::to_string(pos_));
   }
   std::size_t pos() const { return pos_; }
+  /// Checks and skips `n` bytes, returning where they start (for bulk decoding).
+  const char* raw(std::size_t n, const char* what) {
+    need(n, what);
+    const char* p = bytes_.data() + pos_;
+    pos_ += n;
+    return p;
+  }
 
  private:
   const std::string& path_;
@@ -141,9 +147,12 @@ void StarDatabase::save(const std::string& path) const {
 }
 
 StarDatabase StarDatabase::load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path + ": cannot open star database");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes(std::size_t(in.tellg()), '\0');  // one bulk read: load in milliseconds
+  in.seekg(0);
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  if (!in) throw InputError(path + ": cannot read star database");
   if (bytes.size() < sizeof kMagic + 12 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw InputError(path + ": not a star database (bad magic; build one with "
                      "`startracker catalog build`)");
@@ -205,13 +214,27 @@ StarDatabase StarDatabase::load(const std::string& path) {
     return v;
   };
   const uint64_t np = rd.get<uint64_t>("pair count");
-  rd.need(std::size_t(np) * (2 * width + 4), "pairs");
+  const std::size_t pair_bytes = 2 * std::size_t(width) + 4;
+  if (np > (body - rd.pos()) / pair_bytes) rd.need(body, "pairs");  // throws: truncated
+  const char* pp = rd.raw(std::size_t(np) * pair_bytes, "pairs");
   db.pairs_.resize(std::size_t(np));
-  for (StarPair& pr : db.pairs_) {
-    pr.a = getIndex("pair");
-    pr.b = getIndex("pair");
-    pr.theta = rd.get<float>("pairs");
+  bool bad_index = false;
+  for (StarPair& pr : db.pairs_) {  // tight bulk decode: the load must take milliseconds
+    if (width == 2) {
+      uint16_t a, b;
+      std::memcpy(&a, pp, 2);
+      std::memcpy(&b, pp + 2, 2);
+      pr.a = a;
+      pr.b = b;
+    } else {
+      std::memcpy(&pr.a, pp, 4);
+      std::memcpy(&pr.b, pp + 4, 4);
+    }
+    std::memcpy(&pr.theta, pp + 2 * width, 4);
+    pp += pair_bytes;
+    bad_index |= pr.b >= n || pr.a >= pr.b;
   }
+  if (bad_index) throw InputError(path + ": star database pair index out of range");
   db.nbr_start_.resize(std::size_t(n) + 1);
   for (uint32_t& v : db.nbr_start_) v = rd.get<uint32_t>("neighbour offsets");
   for (std::size_t i = 0; i < n; ++i)
