@@ -12,11 +12,15 @@ namespace {
 constexpr double kUnitTolerance = 1e-6;
 
 std::string checkVector(const Vec3& v, std::size_t k, const char* which) {
+  const bool finite = v.allFinite();
+  if (finite && std::abs(v.norm() - 1.0) <= kUnitTolerance)
+    return {};  // the common case: no stream
   std::ostringstream os;
-  if (!v.allFinite()) {
-    os << "observation " << k << ": " << which << " is not finite";
-  } else if (std::abs(v.norm() - 1.0) > kUnitTolerance) {
-    os << "observation " << k << ": " << which << " is not a unit vector (norm " << v.norm() << ")";
+  os << "observation " << k << ": " << which;
+  if (!finite) {
+    os << " is not finite";
+  } else {
+    os << " is not a unit vector (norm " << v.norm() << ")";
   }
   return os.str();
 }
