@@ -5,10 +5,12 @@ namespace st::app {
 
 void addCameraCommand(CLI::App& root, CommandRun& run);
 void addCatalogCommand(CLI::App& root, CommandRun& run);
+void addSimulateCommand(CLI::App& root, CommandRun& run);
 
 void addAllCommands(CLI::App& root, CommandRun& run) {
   addCameraCommand(root, run);
   addCatalogCommand(root, run);
+  addSimulateCommand(root, run);
 }
 
 }  // namespace st::app

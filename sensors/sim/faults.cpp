@@ -1,0 +1,157 @@
+#include "sensors/sim/faults.hpp"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "sensors/sim/motion.hpp"
+#include "sensors/sim/random_streams.hpp"
+
+namespace st {
+
+namespace {
+std::vector<double> readNumbers(const mrpt::config::CConfigFileBase& cfg,
+                                const std::string& section, const std::string& key) {
+  std::string s = cfg.read_string(section, key, "");
+  for (char& c : s)
+    if (c == '[' || c == ']' || c == ',' || c == ';') c = ' ';
+  std::istringstream is(s);
+  std::vector<double> out;
+  std::string tok;
+  while (is >> tok) {
+    try {
+      std::size_t used = 0;
+      out.push_back(std::stod(tok, &used));
+      if (used != tok.size()) throw std::invalid_argument(tok);
+    } catch (const std::exception&) {
+      throw InputError("[" + section + "] key '" + key + "': '" + tok + "' is not a number");
+    }
+  }
+  return out;
+}
+}  // namespace
+
+FaultParams FaultParams::fromConfig(const mrpt::config::CConfigFileBase& cfg,
+                                    const std::string& section) {
+  FaultParams f;
+  auto rd = [&](const char* key, double& v) { v = cfg.read_double(section, key, v); };
+  f.false_stars = cfg.read_int(section, "false_stars", f.false_stars);
+  rd("false_star_mag_min", f.false_star_mag_min);
+  rd("false_star_mag_max", f.false_star_mag_max);
+  rd("spikes_per_frame", f.spikes_per_frame);
+  rd("spike_e_min", f.spike_e_min);
+  rd("spike_e_max", f.spike_e_max);
+  rd("spike_length_max_px", f.spike_length_max_px);
+  f.extended_objects = cfg.read_int(section, "extended_objects", f.extended_objects);
+  rd("extended_mag", f.extended_mag);
+  rd("extended_sigma_px", f.extended_sigma_px);
+  rd("missing_star_fraction", f.missing_star_fraction);
+  rd("blinding_e_px_s", f.blinding_e_px_s);
+  if (cfg.keyExists(section, "blinding_center_px")) {
+    const auto v = readNumbers(cfg, section, "blinding_center_px");
+    if (v.size() != 2)
+      throw InputError("[" + section + "] key 'blinding_center_px' must be two numbers: x y");
+    f.blinding_center_px = Vec2(v[0], v[1]);
+  }
+  rd("blinding_radius_px", f.blinding_radius_px);
+  rd("blinding_start_s", f.blinding_start_s);
+  rd("blinding_end_s", f.blinding_end_s);
+  rd("drop_frame_probability", f.drop_frame_probability);
+  if (cfg.keyExists(section, "dropout_s")) {
+    const auto v = readNumbers(cfg, section, "dropout_s");
+    if (v.size() % 2 != 0)
+      throw InputError("[" + section + "] key 'dropout_s' must hold pairs: t0 t1 [t0 t1 ...]");
+    for (std::size_t i = 0; i < v.size(); i += 2) f.dropouts.emplace_back(v[i], v[i + 1]);
+  }
+  f.validate("[" + section + "]");
+  return f;
+}
+
+void FaultParams::validate(const std::string& where) const {
+  auto bad = [&](const std::string& what) { throw InputError(where + ": " + what); };
+  if (false_stars < 0) bad("false_stars must be >= 0");
+  if (false_star_mag_min > false_star_mag_max) bad("false_star_mag_min > false_star_mag_max");
+  if (!(spikes_per_frame >= 0)) bad("spikes_per_frame must be >= 0");
+  if (!(spike_e_min >= 0 && spike_e_min <= spike_e_max)) bad("need 0 <= spike_e_min <= spike_e_max");
+  if (!(spike_length_max_px >= 0)) bad("spike_length_max_px must be >= 0");
+  if (extended_objects < 0) bad("extended_objects must be >= 0");
+  if (!(extended_sigma_px > 0)) bad("extended_sigma_px must be > 0");
+  if (!(missing_star_fraction >= 0 && missing_star_fraction <= 1))
+    bad("missing_star_fraction must be in [0, 1]");
+  if (!(blinding_e_px_s >= 0)) bad("blinding_e_px_s must be >= 0");
+  if (!(blinding_radius_px > 0)) bad("blinding_radius_px must be > 0");
+  if (!(drop_frame_probability >= 0 && drop_frame_probability <= 1))
+    bad("drop_frame_probability must be in [0, 1]");
+  for (const auto& d : dropouts)
+    if (!(d.first <= d.second)) bad("dropout_s: each interval needs t0 <= t1");
+}
+
+std::vector<ExtraSource> placeFalseSources(const FaultParams& f, const CameraModel& cam,
+                                           const MotionProfile& motion, double duration_s,
+                                           double psf_sigma_px, uint64_t seed) {
+  std::mt19937_64 rng = makeRng(seed, RandomStream::kFaultLayout);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<ExtraSource> out;
+  auto place = [&](double mag, double sigma) {
+    const double t = u01(rng) * std::max(0.0, duration_s);
+    // Keep a margin so the whole source is in the frame at that time.
+    const double m = std::min(3 * sigma, 0.25 * std::min(cam.width(), cam.height()));
+    const Vec2 px(m + u01(rng) * (cam.width() - 1 - 2 * m), m + u01(rng) * (cam.height() - 1 - 2 * m));
+    const Vec3 u_i = motion.attitude(t).toRotationMatrix() * cam.pixelToVector(px);
+    out.push_back({u_i.normalized(), mag, sigma});
+  };
+  for (int i = 0; i < f.false_stars; ++i)
+    place(f.false_star_mag_min + u01(rng) * (f.false_star_mag_max - f.false_star_mag_min),
+          psf_sigma_px);
+  for (int i = 0; i < f.extended_objects; ++i) place(f.extended_mag, f.extended_sigma_px);
+  return out;
+}
+
+int addSpikes(cv::Mat& electrons, const FaultParams& f, std::mt19937_64& rng) {
+  if (f.spikes_per_frame <= 0) return 0;
+  CV_Assert(electrons.type() == CV_64FC1);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const int n = std::poisson_distribution<int>(f.spikes_per_frame)(rng);
+  for (int i = 0; i < n; ++i) {
+    const double x0 = u01(rng) * (electrons.cols - 1), y0 = u01(rng) * (electrons.rows - 1);
+    const double ang = u01(rng) * kTwoPi, len = u01(rng) * f.spike_length_max_px;
+    const double charge = f.spike_e_min + u01(rng) * (f.spike_e_max - f.spike_e_min);
+    // A straight track through the silicon: the charge shared along it, one pixel wide.
+    const int steps = std::max(1, static_cast<int>(std::ceil(len / 0.25)));
+    for (int k = 0; k < steps; ++k) {
+      const double s = steps == 1 ? 0.0 : len * k / (steps - 1);
+      const int x = static_cast<int>(std::lround(x0 + s * std::cos(ang)));
+      const int y = static_cast<int>(std::lround(y0 + s * std::sin(ang)));
+      if (x >= 0 && y >= 0 && x < electrons.cols && y < electrons.rows)
+        electrons.at<double>(y, x) += charge / steps;
+    }
+  }
+  return n;
+}
+
+void addBlinding(cv::Mat& electrons, const FaultParams& f, double t, double exposure_s) {
+  if (f.blinding_e_px_s <= 0 || t < f.blinding_start_s || t > f.blinding_end_s) return;
+  CV_Assert(electrons.type() == CV_64FC1);
+  const double peak = f.blinding_e_px_s * exposure_s, r2s = 1.0 / (f.blinding_radius_px * f.blinding_radius_px);
+  for (int y = 0; y < electrons.rows; ++y) {
+    double* row = electrons.ptr<double>(y);
+    const double dy = y - f.blinding_center_px.y();
+    for (int x = 0; x < electrons.cols; ++x) {
+      const double dx = x - f.blinding_center_px.x();
+      row[x] += peak / (1.0 + (dx * dx + dy * dy) * r2s);
+    }
+  }
+}
+
+bool isFrameDropped(const FaultParams& f, uint64_t seed, int index, double t) {
+  for (const auto& d : f.dropouts)
+    if (t >= d.first && t < d.second) return true;
+  if (f.drop_frame_probability <= 0) return false;
+  return hashToUnit(streamSeed(seed, RandomStream::kFrameDrop, static_cast<uint64_t>(index))) <
+         f.drop_frame_probability;
+}
+
+}  // namespace st

@@ -1,0 +1,253 @@
+#include "sensors/sim/scenario.hpp"
+
+#include <mrpt/config/CConfigFile.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <sstream>
+
+#include "catalog/star_catalog.hpp"
+#include "catalog/star_database.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "sensors/sim/random_streams.hpp"
+
+namespace st {
+
+namespace {
+
+std::vector<double> numberList(const std::string& text, const std::string& where) {
+  std::string s = text;
+  for (char& c : s)
+    if (c == '[' || c == ']' || c == ',' || c == ';') c = ' ';
+  std::istringstream is(s);
+  std::vector<double> out;
+  std::string tok;
+  while (is >> tok) {
+    try {
+      std::size_t used = 0;
+      out.push_back(std::stod(tok, &used));
+      if (used != tok.size()) throw std::invalid_argument(tok);
+    } catch (const std::exception&) {
+      throw InputError(where + ": '" + tok + "' is not a number");
+    }
+  }
+  return out;
+}
+
+CameraModel loadScenarioCamera(const mrpt::config::CConfigFileBase& cfg, const std::string& sec,
+                               const std::string& source) {
+  const std::string where = source + " [" + sec + "]";
+  if (!cfg.sectionExists(sec)) throw InputError(where + ": missing section");
+  if (!cfg.keyExists(sec, "fov_deg")) return CameraModel::loadIni(cfg, sec, source);
+  const auto res = numberList(cfg.read_string(sec, "resolution", ""), where + " key 'resolution'");
+  if (res.size() != 2) throw InputError(where + ": key 'resolution' must be [width height]");
+  const double fov_deg = cfg.read_double(sec, "fov_deg", 0);
+  CameraModel cam = CameraModel::fromFov(static_cast<int>(res[0]), static_cast<int>(res[1]),
+                                         deg2rad(fov_deg));
+  if (!cfg.keyExists(sec, "dist")) return cam;
+  const auto d = numberList(cfg.read_string(sec, "dist", ""), where + " key 'dist'");
+  if (d.size() < 4 || d.size() > 5)
+    throw InputError(where + ": key 'dist' must be k1 k2 p1 p2 [k3]");
+  return CameraModel(cam.width(), cam.height(), cam.fx(), cam.fy(), cam.cx(), cam.cy(),
+                     Distortion{d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0});
+}
+
+}  // namespace
+
+double parseUtc(const std::string& text, const std::string& where) {
+  int Y = 0, M = 0, D = 0, h = 0, m = 0;
+  double s = 0;
+  char sep = 0;
+  if (std::sscanf(text.c_str(), "%d-%d-%d%c%d:%d:%lf", &Y, &M, &D, &sep, &h, &m, &s) != 7 ||
+      (sep != 'T' && sep != ' ') || M < 1 || M > 12 || D < 1 || D > 31 || h < 0 || h > 23 ||
+      m < 0 || m > 59 || s < 0 || s >= 61)
+    throw InputError(where + ": '" + text + "' is not a UTC time YYYY-MM-DDTHH:MM:SS");
+  std::tm tm{};
+  tm.tm_year = Y - 1900;
+  tm.tm_mon = M - 1;
+  tm.tm_mday = D;
+  tm.tm_hour = h;
+  tm.tm_min = m;
+  const double whole = static_cast<double>(timegm(&tm));
+  return whole + s;
+}
+
+Scenario Scenario::load(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(path + ": scenario file does not exist");
+  mrpt::config::CConfigFile cfg(path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  return fromConfig(cfg, path, dir.empty() ? "." : dir);
+}
+
+Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const std::string& source,
+                              const std::string& base_dir) {
+  Scenario sc;
+  sc.source = source;
+  const std::string S = "scenario";
+  const std::string where = source + " [" + S + "]";
+  if (!cfg.sectionExists(S)) throw InputError(where + ": missing section");
+  sc.duration_s = cfg.read_double(S, "duration_s", sc.duration_s);
+  sc.frame_rate_hz = cfg.read_double(S, "frame_rate_hz", sc.frame_rate_hz);
+  if (!(sc.duration_s > 0)) throw InputError(where + ": key 'duration_s' must be > 0");
+  if (!(sc.frame_rate_hz > 0)) throw InputError(where + ": key 'frame_rate_hz' must be > 0");
+  if (cfg.keyExists(S, "start_time"))
+    sc.start_unix_s = parseUtc(cfg.read_string(S, "start_time", ""), where + " key 'start_time'");
+  else
+    sc.start_unix_s = unixSecondsFromJulianYear(cfg.read_double(S, "start_jyear", 2025.0));
+  sc.seed = cfg.read_uint64_t(S, "seed", sc.seed);
+  auto path_key = [&](const char* key) {
+    std::string p = cfg.read_string(S, key, "");
+    if (!p.empty() && std::filesystem::path(p).is_relative())
+      p = (std::filesystem::path(base_dir) / p).string();
+    return p;
+  };
+  sc.database_path = path_key("database");
+  sc.catalog_path = path_key("catalog");
+  sc.mag_limit = cfg.read_double(S, "mag_limit", sc.mag_limit);
+  sc.aberration = cfg.read_bool(S, "aberration", sc.aberration);
+
+  const std::string cam_sec = cfg.read_string(S, "camera_section", "camera");
+  const std::string sen_sec = cfg.read_string(S, "sensor_section", "sensor");
+  const std::string mot_sec = cfg.read_string(S, "motion_section", "motion");
+  const std::string gyr_sec = cfg.read_string(S, "gyro_section", "gyro");
+  const std::string flt_sec = cfg.read_string(S, "faults_section", "faults");
+  sc.camera = loadScenarioCamera(cfg, cam_sec, source);
+  try {
+    sc.sensor = SensorParams::fromConfig(cfg, sen_sec);
+    if (!cfg.sectionExists(mot_sec)) throw InputError("[" + mot_sec + "]: missing section");
+    sc.motion = MotionProfile::fromConfig(cfg, mot_sec);
+    if (cfg.sectionExists(gyr_sec)) {
+      sc.gyro = GyroParams::fromConfig(cfg, gyr_sec);
+      if (cfg.keyExists(gyr_sec, "initial_bias_deg_h")) {
+        const auto b = numberList(cfg.read_string(gyr_sec, "initial_bias_deg_h", ""),
+                                  "[" + gyr_sec + "] key 'initial_bias_deg_h'");
+        if (b.size() != 3)
+          throw InputError("[" + gyr_sec + "] key 'initial_bias_deg_h' must be three numbers");
+        sc.gyro_initial_bias_rad_s = Vec3(b[0], b[1], b[2]) * (kRadPerDeg / 3600.0);
+      }
+    }
+    sc.faults = FaultParams::fromConfig(cfg, flt_sec);
+  } catch (const InputError& e) {
+    throw InputError(source + " " + e.what());
+  }
+  return sc;
+}
+
+int Scenario::frameCount() const {
+  // Frames at k / rate while k / rate < duration (a tiny tolerance absorbs rounding).
+  return std::max(1, static_cast<int>(std::ceil(duration_s * frame_rate_hz - 1e-9)));
+}
+
+int Scenario::gyroSampleCount() const {
+  if (!gyro) return 0;
+  return static_cast<int>(std::floor(duration_s * gyro->rate_hz + 1e-9));
+}
+
+double Scenario::epochJyear() const { return julianYearFromUnixSeconds(start_unix_s); }
+
+mrpt::Clock::time_point Scenario::timestamp(double t) const {
+  const double whole = std::floor(start_unix_s);
+  const auto t0 = mrpt::Clock::fromDouble(whole);
+  const std::chrono::duration<double> offset(start_unix_s - whole + t);
+  return t0 + std::chrono::duration_cast<mrpt::Clock::duration>(offset);
+}
+
+void Scenario::limitFrames(int n) {
+  if (n <= 0) throw InputError("--frames must be > 0, got " + std::to_string(n));
+  duration_s = n / frame_rate_hz;
+}
+
+std::shared_ptr<const StarDatabase> buildScenarioDatabase(const Scenario& sc) {
+  if (!sc.database_path.empty())
+    return std::make_shared<const StarDatabase>(StarDatabase::load(sc.database_path));
+  const std::string cat_path =
+      sc.catalog_path.empty() ? StarDatabase::defaultCatalogPath() : sc.catalog_path;
+  DatabaseParams p{};
+  p.max_pair_angle = deg2rad(0.05);  // the renderer needs the stars, not the pair table
+  p.mag_limit = sc.mag_limit;
+  p.epoch_jyear = sc.epochJyear();
+  p.aberration = sc.aberration;
+  p.double_star_sep = 0;  // render double stars as they are
+  p.max_stars_per_region = 0;
+  p.neighbour_radius = 0;
+  return std::make_shared<const StarDatabase>(StarDatabase::build(loadCatalog(cat_path), p));
+}
+
+// ---- SkySimulator ---------------------------------------------------------------------
+
+SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed)
+    : sc_(sc),
+      seed_(seed),
+      db_(buildScenarioDatabase(sc)),
+      stars_(std::make_shared<DatabaseStarSource>(*db_)),
+      detector_(sc.sensor, sc.camera.width(), sc.camera.height()),
+      gyro_(sc, seed) {
+  init();
+}
+
+SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed,
+                           std::shared_ptr<const StarSource> stars)
+    : sc_(sc),
+      seed_(seed),
+      stars_(std::move(stars)),
+      detector_(sc.sensor, sc.camera.width(), sc.camera.height()),
+      gyro_(sc, seed) {
+  init();
+}
+
+void SkySimulator::init() {
+  if (!sc_.motion) throw InputError(sc_.source + ": scenario has no motion profile");
+  renderer_ = std::make_unique<StarRenderer>(sc_.camera, sc_.sensor, *stars_);
+  render_opts_.extras = placeFalseSources(sc_.faults, sc_.camera, *sc_.motion, sc_.duration_s,
+                                          sc_.sensor.psf_sigma_px, seed_);
+  render_opts_.missing_star_fraction = sc_.faults.missing_star_fraction;
+  render_opts_.missing_star_seed = seed_;
+  background_ = detector_.meanBackground();
+}
+
+SimFrame SkySimulator::frame(int k) const {
+  SimFrame f;
+  f.index = k;
+  f.t = sc_.frameTime(k);
+  f.q_ib = canonical(sc_.motion->attitude(f.t));
+  f.rate_body = sc_.motion->rateBody(f.t);
+  f.dropped = isFrameDropped(sc_.faults, seed_, k, f.t);
+  const MotionProfile& motion = *sc_.motion;
+  const double t_mid = f.t;
+  const AttitudeAt q_at = [&motion, t_mid](double tau) { return motion.attitude(t_mid + tau); };
+  cv::Mat electrons = background_.clone();
+  f.truth = renderer_->render(q_at, electrons, render_opts_);
+  if (f.dropped) return f;
+  std::mt19937_64 clutter = makeRng(seed_, RandomStream::kFrameClutter, static_cast<uint64_t>(k));
+  f.spikes = addSpikes(electrons, sc_.faults, clutter);
+  addBlinding(electrons, sc_.faults, f.t, sc_.sensor.exposure_s);
+  std::mt19937_64 noise = makeRng(seed_, RandomStream::kFrameNoise, static_cast<uint64_t>(k));
+  f.image = detector_.expose(electrons, noise);
+  return f;
+}
+
+GyroStream::GyroStream(const Scenario& sc, uint64_t seed) : sc_(sc) {
+  if (sc_.gyro) {
+    if (!sc_.motion) throw InputError(sc_.source + ": scenario has no motion profile");
+    gyro_ = std::make_unique<GyroSimulator>(*sc_.gyro, streamSeed(seed, RandomStream::kGyro),
+                                            sc_.gyro_initial_bias_rad_s);
+  }
+}
+
+double GyroStream::nextTime() const { return sc_.gyroTime(next_); }
+
+bool GyroStream::next(GyroSample& out) {
+  if (!gyro_ || next_ > sc_.gyroSampleCount()) return false;
+  const int j = next_++;
+  out.index = j;
+  out.t = sc_.gyroTime(j);
+  out.rate = gyro_->sample(*sc_.motion, sc_.gyroTime(j - 1), out.t);
+  out.true_bias = gyro_->bias();
+  return true;
+}
+
+}  // namespace st

@@ -1,0 +1,163 @@
+/// @file scenario.hpp
+/// A simulation scenario (.ini) and the sky simulator that plays it: one clock, the true
+/// motion, the star camera (renderer + detector + faults) and the gyro. The same model is
+/// used by `startracker simulate` (offline, to a rawlog) and by the live MRPT sensors
+/// CSimulatedStarCamera / CSimulatedGyro, so both give the same data for a seed.
+///
+/// Scenario .ini (sections and keys; rates in deg/s, times in s):
+///   [scenario]
+///     duration_s = 10          run length; frames at t_k = k / frame_rate_hz, k = 0.. while
+///     frame_rate_hz = 10       t_k < duration_s; t_k is the mid-exposure time
+///     start_time = 2025-03-20T00:00:00   UTC of t = 0 (also the catalog epoch); or
+///     start_jyear = 2025.2     the same as a Julian year
+///     seed = 1                 default run seed (the CLI's --seed overrides it)
+///     database =               a database file (StarDatabase::save); empty = build one in
+///                              memory from `catalog` (default StarDatabase::defaultCatalogPath())
+///     catalog =                catalog for the in-memory build
+///     mag_limit = 7.0          faintest star rendered (in-memory build)
+///     aberration = true        apparent places (annual aberration), in-memory build
+///     camera_section = camera, sensor_section = sensor, motion_section = motion,
+///     gyro_section = gyro (absent section = no gyro), faults_section = faults
+///   [camera]   either CameraModel::loadIni keys (resolution, fx, fy, cx, cy, dist) or
+///              resolution = [w h] with fov_deg (horizontal) and optional dist
+///   [sensor]   SensorParams keys (sensor_params.hpp)
+///   [motion]   MotionProfile keys (motion.hpp)
+///   [gyro]     GyroParams keys (gyro_model.hpp) plus initial_bias_deg_h = x y z (turn-on
+///              bias, default 0 0 0)
+///   [faults]   FaultParams keys (faults.hpp)
+/// Relative paths (database, catalog) are relative to the scenario file's folder.
+#pragma once
+#include <mrpt/core/Clock.h>
+
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sensors/camera/camera_model.hpp"
+#include "sensors/sim/detector.hpp"
+#include "sensors/sim/faults.hpp"
+#include "sensors/sim/gyro_model.hpp"
+#include "sensors/sim/motion.hpp"
+#include "sensors/sim/sensor_params.hpp"
+#include "sensors/sim/star_renderer.hpp"
+#include "sensors/sim/star_source.hpp"
+
+namespace mrpt::config {
+class CConfigFileBase;
+}
+
+namespace st {
+
+class StarDatabase;
+
+struct Scenario {
+  std::string source = "scenario";  ///< file name, for messages
+  double duration_s = 10;
+  double frame_rate_hz = 10;
+  double start_unix_s = 0;          ///< UTC of t = 0 as Unix seconds
+  uint64_t seed = 1;
+  std::string database_path, catalog_path;
+  double mag_limit = 7.0;
+  bool aberration = true;
+  CameraModel camera;
+  SensorParams sensor;
+  FaultParams faults;
+  std::shared_ptr<const MotionProfile> motion;
+  std::optional<GyroParams> gyro;
+  Vec3 gyro_initial_bias_rad_s = Vec3::Zero();
+
+  /// Throws InputError naming the file, section and key.
+  static Scenario load(const std::string& path);
+  static Scenario fromConfig(const mrpt::config::CConfigFileBase& cfg, const std::string& source,
+                             const std::string& base_dir = ".");
+
+  int frameCount() const;
+  double frameTime(int k) const { return k / frame_rate_hz; }
+  int gyroSampleCount() const;  ///< samples at t_j = j / rate_hz, j = 1.. while t_j <= duration
+  double gyroTime(int j) const { return gyro ? j / gyro->rate_hz : 0.0; }
+  double epochJyear() const;
+  /// The clock: UTC of time t [s] from the start (exact to the clock tick).
+  mrpt::Clock::time_point timestamp(double t) const;
+  /// Limits the run to n frames (duration = n / frame rate).
+  void limitFrames(int n);
+};
+
+/// Parses "YYYY-MM-DDTHH:MM:SS[.fff]" (UTC; 'T' or ' ') into Unix seconds; InputError if bad.
+double parseUtc(const std::string& text, const std::string& where);
+
+/// Builds the in-memory star database a scenario renders from (the catalog of
+/// `catalog_path` or the default one, at the scenario's epoch, V <= mag_limit).
+std::shared_ptr<const StarDatabase> buildScenarioDatabase(const Scenario& sc);
+
+/// One simulated camera frame.
+struct SimFrame {
+  int index = 0;
+  double t = 0;             ///< [s] from the start, mid-exposure
+  bool dropped = false;     ///< the camera delivered nothing (image empty)
+  Quat q_ib = Quat::Identity();
+  Vec3 rate_body = Vec3::Zero();
+  cv::Mat image;            ///< CV_8U or CV_16U
+  std::vector<TrueStar> truth;
+  int spikes = 0;
+};
+
+struct GyroSample {
+  int index = 0;
+  double t = 0;                   ///< [s] from the start: end of the sample interval
+  Vec3 rate = Vec3::Zero();       ///< measured mean body rate over the interval [rad/s]
+  Vec3 true_bias = Vec3::Zero();  ///< the gyro's true bias after the sample [rad/s]
+};
+
+/// The gyro of a scenario: samples at t_j = j / rate_hz (j = 1, 2, ...), each the mean
+/// rate over [t_j-1, t_j] measured by GyroSimulator on the scenario's motion, seeded from
+/// the run seed. Sequential (the bias random walk).
+class GyroStream {
+ public:
+  GyroStream(const Scenario& sc, uint64_t seed);
+  /// False when the scenario has no gyro or the run is over.
+  bool next(GyroSample& out);
+  /// Time [s] of the next sample (meaningless when next() would return false).
+  double nextTime() const;
+
+ private:
+  Scenario sc_;
+  std::unique_ptr<GyroSimulator> gyro_;
+  int next_ = 1;
+};
+
+class SkySimulator {
+ public:
+  /// Uses the scenario's database / catalog (built here) and seed `seed`.
+  SkySimulator(const Scenario& sc, uint64_t seed);
+  /// Uses a given star source (tests, synthetic skies).
+  SkySimulator(const Scenario& sc, uint64_t seed, std::shared_ptr<const StarSource> stars);
+
+  const Scenario& scenario() const { return sc_; }
+  uint64_t seed() const { return seed_; }
+  const Detector& detector() const { return detector_; }
+  const std::vector<ExtraSource>& falseSources() const { return render_opts_.extras; }
+
+  /// Frame k, deterministic for (scenario, seed, k) whatever was rendered before.
+  /// Not thread-safe (one simulator per thread).
+  SimFrame frame(int k) const;
+
+  /// The gyro samples in order (see GyroStream).
+  bool nextGyro(GyroSample& out) { return gyro_.next(out); }
+
+ private:
+  void init();
+
+  Scenario sc_;
+  uint64_t seed_;
+  std::shared_ptr<const StarDatabase> db_;
+  std::shared_ptr<const StarSource> stars_;
+  Detector detector_;
+  std::unique_ptr<StarRenderer> renderer_;
+  RenderOptions render_opts_;
+  cv::Mat background_;
+  GyroStream gyro_;
+};
+
+}  // namespace st

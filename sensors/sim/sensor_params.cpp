@@ -1,0 +1,82 @@
+#include "sensors/sim/sensor_params.hpp"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <cmath>
+
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+
+namespace st {
+
+double SensorParams::gain() const {
+  // Eq. 3.9: the largest useful gain maps the full well onto the ADC range.
+  return gain_e_per_adu > 0 ? gain_e_per_adu : full_well_e / std::ldexp(1.0, bit_depth);
+}
+
+double SensorParams::starElectrons(double vmag) const {
+  // Seed 004 eq. 3.4 with physical units (see header): flux * area * throughput * time.
+  const double area_m2 = 0.25 * kPi * aperture_diameter_m * aperture_diameter_m;
+  return v0_photon_flux * std::pow(10.0, -0.4 * vmag) * area_m2 * transmission * qe * exposure_s;
+}
+
+double SensorParams::backgroundElectrons() const {
+  return (sky_e_px_s + dark_current_e_px_s) * exposure_s;  // eq. 3.8 (D = d t) + background
+}
+
+double SensorParams::modelMeanAdu(double lambda) const { return bias_adu + lambda / gain(); }
+
+double SensorParams::modelVarianceAdu(double lambda) const {
+  const double g = gain();
+  // Eq. 3.16 in ADU: Poisson (signal + dark + background) + read noise, plus eq. 3.12.
+  return (lambda + read_noise_e * read_noise_e) / (g * g) + 1.0 / 12.0;
+}
+
+void SensorParams::validate(const std::string& where) const {
+  auto bad = [&](const std::string& key, double v, const std::string& rule) {
+    throw InputError(where + ": key '" + key + "' = " + std::to_string(v) + " " + rule);
+  };
+  if (!(aperture_diameter_m > 0)) bad("aperture_diameter_m", aperture_diameter_m, "must be > 0");
+  if (!(transmission > 0 && transmission <= 1)) bad("transmission", transmission, "must be in (0, 1]");
+  if (!(qe > 0 && qe <= 1)) bad("qe", qe, "must be in (0, 1]");
+  if (!(exposure_s > 0)) bad("exposure_s", exposure_s, "must be > 0");
+  if (!(v0_photon_flux > 0)) bad("v0_photon_flux", v0_photon_flux, "must be > 0");
+  if (!(psf_sigma_px >= 0.2)) bad("psf_sigma_px", psf_sigma_px, "must be >= 0.2");
+  if (!(sky_e_px_s >= 0)) bad("sky_e_px_s", sky_e_px_s, "must be >= 0");
+  if (!(dark_current_e_px_s >= 0)) bad("dark_current_e_px_s", dark_current_e_px_s, "must be >= 0");
+  if (!(read_noise_e >= 0)) bad("read_noise_e", read_noise_e, "must be >= 0");
+  if (!(full_well_e > 0)) bad("full_well_e", full_well_e, "must be > 0");
+  if (!(gain_e_per_adu >= 0)) bad("gain_e_per_adu", gain_e_per_adu, "must be >= 0 (0 = eq. 3.9)");
+  if (bit_depth < 8 || bit_depth > 16) bad("bit_depth", bit_depth, "must be in 8..16");
+  if (!(bias_adu >= 0 && bias_adu < maxAdu())) bad("bias_adu", bias_adu, "must be in [0, 2^bits-1)");
+  if (hot_pixels < 0) bad("hot_pixels", hot_pixels, "must be >= 0");
+  if (!(hot_pixel_e_px_s >= 0)) bad("hot_pixel_e_px_s", hot_pixel_e_px_s, "must be >= 0");
+}
+
+SensorParams SensorParams::fromConfig(const mrpt::config::CConfigFileBase& cfg,
+                                      const std::string& section) {
+  SensorParams p;
+  auto rd = [&](const char* key, double& v) { v = cfg.read_double(section, key, v); };
+  if (cfg.keyExists(section, "aperture_diameter_mm"))
+    p.aperture_diameter_m = 1e-3 * cfg.read_double(section, "aperture_diameter_mm", 0);
+  rd("aperture_diameter_m", p.aperture_diameter_m);
+  rd("transmission", p.transmission);
+  rd("qe", p.qe);
+  rd("exposure_s", p.exposure_s);
+  rd("v0_photon_flux", p.v0_photon_flux);
+  rd("psf_sigma_px", p.psf_sigma_px);
+  rd("sky_e_px_s", p.sky_e_px_s);
+  rd("dark_current_e_px_s", p.dark_current_e_px_s);
+  rd("read_noise_e", p.read_noise_e);
+  rd("full_well_e", p.full_well_e);
+  rd("gain_e_per_adu", p.gain_e_per_adu);
+  rd("bias_adu", p.bias_adu);
+  rd("hot_pixel_e_px_s", p.hot_pixel_e_px_s);
+  p.bit_depth = cfg.read_int(section, "bit_depth", p.bit_depth);
+  p.hot_pixels = cfg.read_int(section, "hot_pixels", p.hot_pixels);
+  p.hot_pixel_seed = cfg.read_uint64_t(section, "hot_pixel_seed", p.hot_pixel_seed);
+  p.validate("[" + section + "]");
+  return p;
+}
+
+}  // namespace st

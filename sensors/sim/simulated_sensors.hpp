@@ -1,0 +1,93 @@
+/// @file simulated_sensors.hpp
+/// The simulated star camera and gyro as MRPT sensors (mrpt::hwdrivers::CGenericSensor), so
+/// that rawlog-grabber style apps run on them as if they were hardware. Both play a scenario
+/// .ini (scenario.hpp) in real time with the same model as `startracker simulate`: frame k
+/// is emitted once the wall clock passes its mid-exposure time plus half the exposure, with
+/// timestamp = start + t_k; gyro sample j when the clock passes t_j. The start is shared by
+/// all simulated sensors of the process (the first doProcess() of any of them), so camera
+/// and gyro share one clock. When the process falls behind by more than one frame, the
+/// camera skips the stale frames (as a real camera drops them) and counts them.
+///
+/// .ini section (besides CGenericSensor's process_rate, sensorLabel, ...):
+///   driver = CSimulatedStarCamera | CSimulatedGyro
+///   scenario_file = path/to/scenario.ini   (required; relative to the working directory)
+///   seed = N                                (default: the scenario's seed)
+///   truth_label = GROUND_TRUTH              (camera only: also emit the truth per frame
+///                                            with this label; empty = no truth)
+/// process_rate must be at least the frame rate (camera) or gyro rate (gyro) to keep up.
+///
+/// The factory knows them only after registerSimulatedSensors() (or doRegister()).
+#pragma once
+#include <mrpt/core/Clock.h>
+#include <mrpt/hwdrivers/CGenericSensor.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace st {
+
+class SkySimulator;
+class GyroStream;
+struct Scenario;
+
+class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor {
+  DEFINE_GENERIC_SENSOR(CSimulatedStarCamera)
+ public:
+  CSimulatedStarCamera();
+  ~CSimulatedStarCamera() override;
+  void initialize() override;
+  void doProcess() override;
+  void setPathForExternalImages(const std::string& directory) override;
+
+  int framesEmitted() const { return emitted_; }
+  int framesSkipped() const { return skipped_; }
+  bool finished() const;
+
+ protected:
+  void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
+                                 const std::string& section) override;
+
+ private:
+  std::string scenario_file_, truth_label_ = "GROUND_TRUTH";
+  std::optional<uint64_t> seed_;
+  std::unique_ptr<Scenario> scenario_;
+  std::unique_ptr<SkySimulator> sim_;
+  int next_frame_ = 0, emitted_ = 0, skipped_ = 0;
+};
+
+class CSimulatedGyro : public mrpt::hwdrivers::CGenericSensor {
+  DEFINE_GENERIC_SENSOR(CSimulatedGyro)
+ public:
+  CSimulatedGyro();
+  ~CSimulatedGyro() override;
+  void initialize() override;
+  void doProcess() override;
+
+  int samplesEmitted() const { return emitted_; }
+  bool finished() const { return done_; }
+
+ protected:
+  void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
+                                 const std::string& section) override;
+
+ private:
+  std::string scenario_file_;
+  std::optional<uint64_t> seed_;
+  std::unique_ptr<Scenario> scenario_;
+  std::unique_ptr<GyroStream> stream_;
+  int emitted_ = 0;
+  bool done_ = false;
+};
+
+/// Registers both classes with MRPT's sensor factory (idempotent).
+void registerSimulatedSensors();
+
+/// Seconds since the shared start of the simulated sensors (starts the clock on first call),
+/// and the wall-clock time of that start.
+double simulatedSensorsElapsed();
+mrpt::Clock::time_point simulatedSensorsStart();
+/// Restarts the shared clock at the next call (tests that run several live sessions).
+void resetSimulatedSensorsClock();
+
+}  // namespace st
