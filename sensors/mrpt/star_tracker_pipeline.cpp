@@ -1,0 +1,415 @@
+#include "sensors/mrpt/star_tracker_pipeline.hpp"
+
+#include <mrpt/system/datetime.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "sensors/detect/star_detector.hpp"
+#include "sensors/identify/star_observation.hpp"
+
+namespace st {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+/// Upper quantile of chi-square with `dof` degrees of freedom at tail probability `alpha`
+/// (Wilson & Hilferty 1931 cube-root normal approximation; relative error < 1% for dof >= 1
+/// at alpha >= 1e-6, ample for a gate).
+double chiSquareUpper(double dof, double alpha) {
+  // Standard normal upper quantile z(alpha) by Acklam-style rational approximation in the
+  // tail (|error| < 5e-4 for alpha in [1e-9, 0.5]).
+  const double t = std::sqrt(-2.0 * std::log(alpha));
+  const double z = t - (2.515517 + 0.802853 * t + 0.010328 * t * t) /
+                           (1.0 + 1.432788 * t + 0.189269 * t * t + 0.001308 * t * t * t);
+  const double a = 2.0 / (9.0 * dof);
+  const double c = 1.0 - a + z * std::sqrt(a);
+  return dof * c * c * c;
+}
+
+/// d(pixel)/d(v_cam) (2x3) of the camera projection at v_cam: pixel Jacobian of the
+/// normalised coordinates times d(x/z, y/z)/dv.
+Eigen::Matrix<double, 2, 3> projectionJacobian(const CameraModel& cam, const Vec3& v) {
+  Eigen::Matrix<double, 2, 3> n;
+  const double iz = 1.0 / v.z();
+  n << iz, 0, -v.x() * iz * iz, 0, iz, -v.y() * iz * iz;
+  return cam.pixelJacobian(v) * n;
+}
+
+double angleBetween(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+}  // namespace
+
+struct StarTrackerPipeline::Candidate {
+  uint32_t star_index;
+  Vec3 v_cam;                       // predicted direction, camera frame
+  Vec2 px;                          // predicted pixel
+  Eigen::Matrix<double, 2, 3> H = Eigen::Matrix<double, 2, 3>::Zero();  // d(px)/d(dtheta_cam)
+  Mat2 cov_att_px = Mat2::Zero();                                       // H P H^T
+};
+
+void PipelineOptions::validate() const {
+  auto bad = [](const std::string& key, const std::string& why) {
+    throw InputError("star tracker pipeline option '" + key + "': " + why);
+  };
+  if (!(exposure_s >= 0)) bad("exposure_s", "must be >= 0");
+  if (max_tracked_stars < 3) bad("max_tracked_stars", "must be >= 3");
+  if (min_tracked_stars < 3) bad("min_tracked_stars", "must be >= 3 (a check needs > 2 stars)");
+  if (!(gate_sigma > 0)) bad("gate_sigma", "must be > 0");
+  if (!(loss_probability > 0 && loss_probability < 0.5)) bad("loss_probability", "in (0, 0.5)");
+  if (!(consistency_probability > 0 && consistency_probability < 0.5)) {
+    bad("consistency_probability", "in (0, 0.5)");
+  }
+  if (max_failed_frames < 1) bad("max_failed_frames", "must be >= 1");
+  if (!(max_propagation_s > 0)) bad("max_propagation_s", "must be > 0");
+  if (!(accel_sigma >= 0)) bad("accel_sigma", "must be >= 0");
+  if (!(gyro_sigma >= 0)) bad("gyro_sigma", "must be >= 0");
+  if (!(min_sigma_px > 0)) bad("min_sigma_px", "must be > 0");
+  std::string err;
+  if (!detect.isValid(&err)) bad("detect", err);
+}
+
+StarTrackerPipeline::StarTrackerPipeline(const StarDatabase& db, const CameraModel& camera,
+                                         PipelineOptions options)
+    : db_(db), camera_(camera), opts_(std::move(options)) {
+  opts_.validate();
+  std::string err;
+  identifier_ = StarIdentifier::create(opts_.lis_algorithm, opts_.identify, &err);
+  if (!identifier_) throw InputError("star tracker pipeline option 'lis_algorithm': " + err);
+  solver_ = WahbaSolver::create(opts_.solver, &err);
+  if (!solver_) throw InputError("star tracker pipeline option 'solver': " + err);
+  const auto& R = opts_.sensor_pose.getRotationMatrix();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R_bc_(r, c) = R(r, c);
+  half_diagonal_fov_ = camera_.halfDiagonalFov();
+}
+
+StarTrackerPipeline::~StarTrackerPipeline() = default;
+
+void StarTrackerPipeline::setPrediction(const AttitudePrediction& p) { external_ = p; }
+void StarTrackerPipeline::setGyroRate(const Vec3& rate_body) { gyro_rate_body_ = rate_body; }
+
+void StarTrackerPipeline::reset() {
+  last_.reset();
+  prev_.reset();
+  external_.reset();
+  gyro_rate_body_.reset();
+  failed_frames_ = 0;
+  lost_ = true;
+}
+
+std::optional<StarTrackerPipeline::Prediction> StarTrackerPipeline::predictionFor(
+    mrpt::Clock::time_point t) {
+  // One-shot inputs: consumed by this frame whatever happens.
+  const auto external = std::exchange(external_, std::nullopt);
+  const auto gyro = std::exchange(gyro_rate_body_, std::nullopt);
+  if (lost_) return std::nullopt;
+
+  const Mat3 R_cb = R_bc_.transpose();
+  if (external) {
+    // Body -> camera: q_ic = q_ib (x) q_bc, dtheta_cam = R_cb dtheta_body.
+    Prediction p;
+    p.q_ic = canonical(external->q_ib * Quat(R_bc_));
+    p.cov_cam = R_cb * external->cov_body * R_cb.transpose();
+    p.rate_cam = R_cb * external->rate_body;
+    p.source = "external";
+    return p;
+  }
+  if (!opts_.frame_to_frame || !last_) return std::nullopt;
+  const double dt = mrpt::system::timeDifference(last_->t, t);
+  if (dt < 0 || dt > opts_.max_propagation_s) return std::nullopt;
+
+  Prediction p;
+  Mat3 rate_term = Mat3::Zero();
+  if (gyro) {
+    p.rate_cam = R_cb * *gyro;
+    rate_term = std::pow(opts_.gyro_sigma * dt, 2) * Mat3::Identity();
+    p.source = "gyro";
+  } else if (prev_) {
+    // Rate match (seed 004 §5.5.3): the rate of the last two attitudes, held constant.
+    const double dt_prev = mrpt::system::timeDifference(prev_->t, last_->t);
+    if (!(dt_prev > 0) || dt_prev > opts_.max_propagation_s) return std::nullopt;
+    p.rate_cam = quatLog(prev_->q_ic.conjugate() * last_->q_ic) / dt_prev;
+    // Extrapolated error e = dth_last (1 + k) - dth_prev k, k = dt / dt_prev; plus a constant
+    // angular acceleration over the extrapolation: alpha (dt^2 + dt dt_prev) / 2 per axis.
+    const double k = dt / dt_prev;
+    const double acc = 0.5 * opts_.accel_sigma * (dt * dt + dt * dt_prev);
+    rate_term = (2 * k + k * k) * last_->cov_cam + k * k * prev_->cov_cam +
+                acc * acc * Mat3::Identity();
+    p.source = "rate match";
+  } else {
+    return std::nullopt;  // one attitude and no rate: lost-in-space once more
+  }
+  const Mat3 dR = quatExp(p.rate_cam * dt).toRotationMatrix();
+  p.q_ic = canonical(last_->q_ic * quatExp(p.rate_cam * dt));
+  p.cov_cam = dR.transpose() * last_->cov_cam * dR + rate_term;
+  return p;
+}
+
+void StarTrackerPipeline::setAttitude(CObservationStarTracker& out, const Quat& q_ic,
+                                      const Mat3& cov_cam) const {
+  // q_ib = q_ic (x) q_cb; dtheta_body = R_bc dtheta_cam.
+  out.q_ib = canonical(q_ic * Quat(R_bc_.transpose()));
+  out.cov_body = R_bc_ * cov_cam * R_bc_.transpose();
+}
+
+CObservationStarTracker::Ptr StarTrackerPipeline::process(const cv::Mat& image,
+                                                          mrpt::Clock::time_point t) {
+  const auto t0 = Clock::now();
+  auto out = CObservationStarTracker::Create();
+  out->timestamp = t;
+  out->sensorLabel = opts_.sensor_label;
+  out->sensor_pose = opts_.sensor_pose;
+
+  const auto pred = predictionFor(t);
+  Fix fix;
+  if (pred) {
+    if (track(image, *pred, *out, fix)) {
+      out->mode = StarTrackerMode::kTracking;
+      failed_frames_ = 0;
+      prev_ = last_;
+      last_ = fix;
+    } else {
+      out->mode = StarTrackerMode::kFailed;
+      if (++failed_frames_ >= opts_.max_failed_frames) {
+        out->reason += "; " + std::to_string(failed_frames_) +
+                       " failed frames: back to lost-in-space";
+        reset();
+      }
+    }
+  } else {
+    // No usable prediction: lost-in-space. The previous fix stays as the rate partner only if
+    // it is recent enough to be the frame before.
+    if (lostInSpace(image, *out, fix)) {
+      out->mode = StarTrackerMode::kLostInSpace;
+      failed_frames_ = 0;
+      lost_ = false;
+      if (last_ && mrpt::system::timeDifference(last_->t, t) <= opts_.max_propagation_s) {
+        prev_ = last_;
+      } else {
+        prev_.reset();
+      }
+      last_ = fix;
+    } else {
+      out->mode = StarTrackerMode::kFailed;
+      reset();
+    }
+  }
+  out->timings.total = seconds(t0, Clock::now());
+  return out;
+}
+
+bool StarTrackerPipeline::lostInSpace(const cv::Mat& image, CObservationStarTracker& out,
+                                      Fix& fix) {
+  const auto t0 = Clock::now();
+  const DetectionResult det = detectStars(image, opts_.detect);
+  out.timings.detect = seconds(t0, Clock::now());
+  out.num_blobs = det.blobs_found;
+  if (!det.reason.empty()) {
+    out.reason = "lost-in-space: detection: " + det.reason;
+    return false;
+  }
+  const std::vector<StarObservation> obs =
+      toStarObservations(det.stars, camera_, opts_.min_sigma_px);
+  const IdentifyResult res = identifier_->identify(obs, db_, camera_);
+  out.timings.identify = 1e-3 * res.timing.pattern_ms;
+  out.timings.attitude = 1e-3 * res.timing.verify_ms;
+  if (!res.solved()) {
+    out.reason = std::string("lost-in-space: ") + toString(res.status) +
+                 (res.reason.empty() ? "" : ": " + res.reason);
+    return false;
+  }
+  const Mat3 R_ic = res.q_ib.toRotationMatrix();
+  for (const StarMatch& m : res.matches) {
+    const StarObservation& o = obs[m.obs_index];
+    MatchedStar s;
+    s.catalog_id = m.catalog_id;
+    s.px = o.px;
+    s.v_cam = o.v_cam;
+    s.residual = angleBetween(o.v_cam, R_ic.transpose() * db_.stars()[m.star_index].u_i);
+    out.stars.push_back(s);
+  }
+  setAttitude(out, res.q_ib, res.cov_body);
+  fix = {out.timestamp, canonical(res.q_ib), res.cov_body};
+  return true;
+}
+
+bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
+                                CObservationStarTracker& out, Fix& fix) {
+  const auto t0 = Clock::now();
+  const Mat3 R_ic = pred.q_ic.toRotationMatrix();
+  // sqrt(trace) bounds the largest 1-sigma of the attitude (cheaper than an eigen solve).
+  const double att_sigma = std::sqrt(std::max(0.0, pred.cov_cam.trace()));
+
+  // 1. Catalog stars expected in the image (seed 002: cone of the FOV + the attitude
+  //    uncertainty), projected with the camera model.
+  db_.coneQuery(R_ic.col(2), half_diagonal_fov_ + 3.0 * att_sigma, cone_);
+  candidates_.clear();
+  for (uint32_t i : cone_) {
+    const Vec3 v = R_ic.transpose() * db_.stars()[i].u_i;
+    if (v.z() <= 0) continue;
+    const auto px = camera_.vectorToPixel(v);
+    if (!px || !camera_.isPixelInImage(*px, 0.0)) continue;
+    Candidate c;
+    c.star_index = i;
+    c.v_cam = v;
+    c.px = *px;
+    candidates_.push_back(c);
+  }
+  // 2. The brightest stars (cone order = brightest first) away from the border and from
+  //    blends, each with its window.
+  std::vector<PredictedStar> windows;
+  std::vector<const Candidate*> windowed;
+  const double blend2 = opts_.blend_separation_px * opts_.blend_separation_px;
+  const double sigma_c2 = std::pow(std::max(opts_.min_sigma_px, 0.1), 2);
+  for (Candidate& c : candidates_) {
+    if (int(windows.size()) >= opts_.max_tracked_stars) break;
+    if (!camera_.isPixelInImage(c.px, opts_.edge_margin_px)) continue;
+    bool blended = false;
+    for (const Candidate& o : candidates_) {
+      if (&o != &c && (o.px - c.px).squaredNorm() < blend2) {
+        blended = true;
+        break;
+      }
+    }
+    if (blended) continue;
+    // Error model: v_true = Exp(-dtheta) v = v + [v]x dtheta (R_true = R Exp(dtheta)), and
+    // over the exposure v(tau) = v + [v]x omega tau: same Jacobian for both.
+    const Eigen::Matrix<double, 3, 3> S = skew(c.v_cam);
+    c.H = projectionJacobian(camera_, c.v_cam) * S;
+    c.cov_att_px = c.H * pred.cov_cam * c.H.transpose();
+    PredictedStar p;
+    p.px = c.px;
+    p.cov_px = c.cov_att_px + sigma_c2 * Mat2::Identity();
+    p.blur_px = c.H * pred.rate_cam * opts_.exposure_s;
+    windows.push_back(p);
+    windowed.push_back(&c);
+  }
+  const auto t1 = Clock::now();
+  if (int(windows.size()) < opts_.min_tracked_stars) {
+    out.reason = "tracking (" + pred.source + "): only " + std::to_string(windows.size()) +
+                 " catalog stars predicted in the image";
+    out.timings.identify = seconds(t0, t1);
+    return false;
+  }
+
+  // 3. Centroids in the windows only (seed 004 §4.2.3).
+  const std::vector<WindowResult> found = centroidWindows(image, windows, opts_.detect);
+  const auto t2 = Clock::now();
+  out.timings.detect = seconds(t1, t2);
+
+  // 4. Mahalanobis gate per star (seed 002 step 5: |d| < 3 sqrt(2) sigma).
+  const double gate2 = opts_.gate_sigma * opts_.gate_sigma;
+  std::vector<Centroid> gated;
+  std::vector<const Candidate*> gated_cand;
+  std::vector<double> gated_d2;
+  int with_centroid = 0;
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    if (!found[k].centroid) continue;
+    ++with_centroid;
+    const Centroid& cen = *found[k].centroid;
+    const Vec2 d = cen.px - windowed[k]->px;
+    const Mat2 S = windowed[k]->cov_att_px + cen.cov_px + sigma_c2 * Mat2::Identity();
+    const double d2 = d.dot(S.ldlt().solve(d));
+    if (!(d2 <= gate2)) continue;
+    // Two windows that caught the same blob: keep the closer prediction.
+    bool duplicate = false;
+    for (std::size_t j = 0; j < gated.size(); ++j) {
+      if ((gated[j].px - cen.px).squaredNorm() < 1.0) {
+        duplicate = true;
+        if (d2 < gated_d2[j]) {
+          gated[j] = cen;
+          gated_cand[j] = windowed[k];
+          gated_d2[j] = d2;
+        }
+        break;
+      }
+    }
+    if (duplicate) continue;
+    gated.push_back(cen);
+    gated_cand.push_back(windowed[k]);
+    gated_d2.push_back(d2);
+  }
+  out.num_blobs = with_centroid;
+  const auto t3 = Clock::now();
+  out.timings.identify = seconds(t0, t1) + seconds(t2, t3);
+
+  auto fail = [&](const std::string& why) {
+    out.reason = "tracking (" + pred.source + "): " + why;
+    out.timings.attitude = seconds(t3, Clock::now());
+    return false;
+  };
+  if (int(gated.size()) < opts_.min_tracked_stars) {
+    return fail(std::to_string(gated.size()) + " of " + std::to_string(windows.size()) +
+                " predicted stars found inside the gate (" + std::to_string(with_centroid) +
+                " windows with a centroid)");
+  }
+
+  // 5. Solve, then verify: loss chi-square (dropping the worst star while it fails) and
+  //    consistency with the prediction.
+  const std::vector<StarObservation> sobs = toStarObservations(gated, camera_, opts_.min_sigma_px);
+  std::vector<VectorObservation> vobs(sobs.size());
+  for (std::size_t k = 0; k < sobs.size(); ++k) {
+    vobs[k] = {sobs[k].v_cam, db_.stars()[gated_cand[k]->star_index].u_i, sobs[k].sigma};
+  }
+  std::vector<std::size_t> keep(sobs.size());
+  for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = k;
+  WahbaSolution sol;
+  for (;;) {
+    sol = solver_->solve(vobs);
+    if (!sol.ok) return fail("solver: " + sol.reason);
+    const double n = double(vobs.size());
+    // 2 loss ~ chi2(2n - 3) under the QMM (wahba.hpp).
+    if (2.0 * sol.loss <= chiSquareUpper(2.0 * n - 3.0, opts_.loss_probability)) break;
+    if (int(vobs.size()) <= opts_.min_tracked_stars) {
+      return fail("Wahba loss " + std::to_string(2.0 * sol.loss) + " too large for " +
+                  std::to_string(vobs.size()) + " stars");
+    }
+    const Mat3 R = sol.q_ib.toRotationMatrix();
+    std::size_t worst = 0;
+    double worst_e = -1;
+    for (std::size_t k = 0; k < vobs.size(); ++k) {
+      const double e = (vobs[k].b - R.transpose() * vobs[k].r).squaredNorm() /
+                       (vobs[k].sigma * vobs[k].sigma);
+      if (e > worst_e) {
+        worst_e = e;
+        worst = k;
+      }
+    }
+    vobs.erase(vobs.begin() + long(worst));
+    keep.erase(keep.begin() + long(worst));
+  }
+  const Vec3 innov = quatLog(pred.q_ic.conjugate() * sol.q_ib);
+  const Mat3 Sinn = pred.cov_cam + sol.cov_body;
+  const double m2 = innov.dot(Sinn.ldlt().solve(innov));
+  if (!(m2 <= chiSquareUpper(3.0, opts_.consistency_probability))) {
+    return fail("solution " + std::to_string(rad2arcsec(innov.norm())) +
+                " arcsec from the prediction (chi2(3) = " + std::to_string(m2) + ")");
+  }
+
+  const Mat3 R_ic_sol = sol.q_ib.toRotationMatrix();
+  for (std::size_t j = 0; j < keep.size(); ++j) {
+    const std::size_t k = keep[j];
+    MatchedStar s;
+    s.catalog_id = db_.stars()[gated_cand[k]->star_index].id;
+    s.px = sobs[k].px;
+    s.v_cam = sobs[k].v_cam;
+    s.residual = angleBetween(vobs[j].b, R_ic_sol.transpose() * vobs[j].r);
+    out.stars.push_back(s);
+  }
+  setAttitude(out, sol.q_ib, sol.cov_body);
+  fix = {out.timestamp, canonical(sol.q_ib), sol.cov_body};
+  out.timings.attitude = seconds(t3, Clock::now());
+  return true;
+}
+
+}  // namespace st
