@@ -5,12 +5,18 @@ namespace st::app {
 
 void addCameraCommand(CLI::App& root, CommandRun& run);
 void addCatalogCommand(CLI::App& root, CommandRun& run);
+void addLiveCommand(CLI::App& root, CommandRun& run);
+void addMontecarloCommand(CLI::App& root, CommandRun& run);
 void addSimulateCommand(CLI::App& root, CommandRun& run);
+void addSolveCommand(CLI::App& root, CommandRun& run);
 
 void addAllCommands(CLI::App& root, CommandRun& run) {
   addCameraCommand(root, run);
   addCatalogCommand(root, run);
+  addLiveCommand(root, run);
+  addMontecarloCommand(root, run);
   addSimulateCommand(root, run);
+  addSolveCommand(root, run);
 }
 
 }  // namespace st::app

@@ -91,7 +91,6 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   std::vector<StarMatch> matches, prev;
   std::vector<int> best_pred(n_obs);
   std::vector<double> gate_cos(n_obs), gate_rad(n_obs), best_dot(n_obs);
-  double max_gate = 0;
   const double min_gate = options_.min_gate_px * camera_.pixelScale();
   WahbaSolution sol;
   sol.ok = true;
@@ -117,7 +116,6 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
     const int n_pred = static_cast<int>(pred.size());
     std::vector<int> best_obs(n_pred, -1);
     std::vector<double> best_obs_dot(n_pred, -2.0);
-    max_gate = 0;
     for (int k = 0; k < n_obs; ++k) {
       best_pred[k] = -1;
       best_dot[k] = -2.0;
@@ -134,7 +132,6 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       r = std::max(r, min_gate);
       gate_rad[k] = r;
       gate_cos[k] = std::cos(r);
-      max_gate = std::max(max_gate, r);
     }
     matches.clear();
     for (int k = 0; k < n_obs; ++k) {
@@ -188,8 +185,10 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   // False-match probability (model in verify.hpp).
   const int n = std::max(0, n_obs - free_matches);
   const int m = std::max(0, static_cast<int>(matches.size()) - free_matches);
-  const double p_chance =
-      std::min(1.0, res.predicted_in_fov * kPi * max_gate * max_gate / omega_fov_);
+  double sum_p = 0;
+  for (int k = 0; k < n_obs; ++k)
+    sum_p += std::min(1.0, res.predicted_in_fov * kPi * gate_rad[k] * gate_rad[k] / omega_fov_);
+  const double p_chance = n_obs > 0 ? sum_p / n_obs : 1.0;
   res.false_match_probability =
       std::min(1.0, std::max(1.0, attitudes_examined) * binomialUpperTail(n, m, p_chance));
 

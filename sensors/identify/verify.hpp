@@ -8,10 +8,11 @@
 ///   Null hypothesis H0: the attitude is wrong, so the observations not used to build it fall
 ///   on the sky independently of the catalog stars. Observation k is then "matched" by
 ///   chance with probability p_k = N_fov * pi * r_k^2 / Omega_fov (N_fov catalog stars
-///   predicted in the image of solid angle Omega_fov, gate radius r_k); we use the largest
-///   p_k (conservative). With n observations besides the `free` ones that any attitude fits
-///   by construction (two stars fix an attitude), the number of chance matches X is
-///   Binomial(n, p), and a hypothesis with m matches besides those has
+///   predicted in the image of solid angle Omega_fov, gate radius r_k). With n observations
+///   besides the `free` ones that any attitude fits by construction (two stars fix an
+///   attitude), the number of chance matches X is Poisson-binomial; we use Binomial(n, p)
+///   with the mean p of the p_k, whose upper tail bounds the Poisson-binomial one above the
+///   mean (Hoeffding 1956), and a hypothesis with m matches besides those has
 ///       P(X >= m) = sum_{x >= m} C(n, x) p^x (1 - p)^(n - x).
 ///   A search that examined A candidate attitudes could meet such a coincidence A times, so
 ///   the reported probability is the union bound  P_false = min(1, A * P(X >= m)).

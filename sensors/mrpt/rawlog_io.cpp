@@ -13,8 +13,8 @@
 #include "common/errors.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
 
-#if __has_include("sensors/sim/sim_sensors.hpp")
-#include "sensors/sim/sim_sensors.hpp"
+#if __has_include("sensors/sim/simulated_sensors.hpp")
+#include "sensors/sim/simulated_sensors.hpp"
 #define ST_HAVE_SIM_SENSORS 1
 #endif
 

@@ -1,0 +1,52 @@
+/// @file fov_search.hpp
+/// Lost-in-space identification when the focal length is unknown (a plate solve from the
+/// image alone): try a geometric grid of horizontal fields of view; each try widens the
+/// pair tolerances and gates by the relative scale uncertainty of the grid step
+/// (IdentifyOptions::scale_tolerance). The first verified solution's matched stars then fit
+/// the focal length (least squares, principal point at the centre, square pixels), and the
+/// identification is repeated with the fitted camera and no scale slack.
+#pragma once
+#include <vector>
+
+#include "sensors/identify/identifier.hpp"
+
+namespace st {
+
+/// False-match threshold of the candidate pass made with scale slack (its gates are wide);
+/// the accepted answer always passes IdentifyOptions::verify.false_match_threshold.
+constexpr double kCandidateFalseMatchThreshold = 1e-2;
+
+/// Horizontal FOVs [rad] from `min_hfov` to `max_hfov` whose ranges
+/// [f (1 - s), f (1 + s)] touch each other (s = scale_tolerance).
+std::vector<double> fovSearchGrid(double min_hfov, double max_hfov, double scale_tolerance);
+
+/// Least-squares focal length for the identified stars (attitude and matches of `r`),
+/// keeping the principal point and the fx/fy ratio. Returns `cam` unchanged with < 3 matches.
+CameraModel fitFocalLength(const CameraModel& cam, const std::vector<StarObservation>& obs,
+                           const IdentifyResult& r, const StarDatabase& db);
+
+struct FovSearchResult {
+  IdentifyResult result;             ///< of the final (fitted-camera) identification
+  CameraModel camera;                ///< fitted camera (or the last one tried)
+  std::vector<StarObservation> obs;  ///< observations with that camera
+  int fovs_tried = 0;
+  double search_ms = 0;              ///< total time of all tries [ms]
+};
+
+/// `identifier` options are used as given except scale_tolerance (set per try).
+/// `min_sigma_px` floors the centroid sigma (toStarObservations): on a real image with an
+/// approximate camera the model error (distortion, focal length) dominates the noise.
+FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int width,
+                                   int height, const StarDatabase& db,
+                                   StarIdentifier& identifier,
+                                   const std::vector<double>& hfov_grid, double scale_tolerance,
+                                   double min_sigma_px = 0.02);
+
+/// Identify with a known camera, then (if `fit_focal` and solved) fit the focal length and
+/// identify again; used by identifyUnknownFov and for a camera from --fov-deg.
+FovSearchResult identifyAndFit(const std::vector<Centroid>& centroids, const CameraModel& cam,
+                               const StarDatabase& db, StarIdentifier& identifier,
+                               double scale_tolerance, bool fit_focal,
+                               double min_sigma_px = 0.02);
+
+}  // namespace st
