@@ -2,6 +2,7 @@
 // errors for missing / truncated / garbage files, external images, and the stock
 // `rawlog-edit -p <plugin>` listing our observations.
 #include <gtest/gtest.h>
+#include <mrpt/hwdrivers/CGenericSensor.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CRawlog.h>
@@ -112,6 +113,13 @@ TEST(RawlogIo, UnknownClassTruncatesCRawlogSilentlyButOurReaderReportsIt) {
     EXPECT_TRUE(contains(msg, "not registered")) << msg;
     EXPECT_TRUE(contains(msg, "CObservationNeverRegistered")) << msg;
   }
+}
+
+TEST(RawlogIo, RegistrationAlsoRegistersTheSimulatedSensors) {
+  // rawlog-grabber -p <plugin> needs the factory to know them by their bare class names.
+  registerStarTrackerClasses();
+  EXPECT_NE(mrpt::hwdrivers::CGenericSensor::createSensorPtr("CSimulatedStarCamera"), nullptr);
+  EXPECT_NE(mrpt::hwdrivers::CGenericSensor::createSensorPtr("CSimulatedGyro"), nullptr);
 }
 
 TEST(RawlogIo, MissingFileIsAnInputErrorNamingIt) {
