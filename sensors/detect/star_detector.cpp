@@ -5,11 +5,11 @@
 #include <exception>
 
 #include <mrpt/img/CImage.h>
-#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
 #include "common/errors.hpp"
 #include "sensors/detect/background.hpp"
+#include "sensors/detect/blob_labeller.hpp"
 #include "sensors/detect/centroider.hpp"
 #include "sensors/detect/prefilter.hpp"
 
@@ -55,43 +55,48 @@ template <typename T>
 double pix(const cv::Mat& m, int x, int y) {
   return static_cast<double>(m.ptr<T>(y)[x]);
 }
-double pixel(const cv::Mat& m, int x, int y) {
-  return m.depth() == CV_8U ? pix<uint8_t>(m, x, y) : pix<uint16_t>(m, x, y);
-}
 
-// Second moments of the background-subtracted pixels selected by `use`: elongation and a
-// PSF sigma estimate (the moments of a pixel-integrated Gaussian are s^2 + 1/12).
-template <typename Use>
-void shape(const cv::Mat& grey, const cv::Rect& r, double bg, Use use, double& elongation,
-           double& sigma) {
+// Second moments of background-subtracted pixels, fed one at a time: elongation and a PSF
+// sigma estimate (the moments of a pixel-integrated Gaussian are s^2 + 1/12).
+struct Moments {
   double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
-  for (int y = r.y; y < r.y + r.height; ++y)
-    for (int x = r.x; x < r.x + r.width; ++x) {
-      if (!use(x, y)) continue;
-      const double w = pixel(grey, x, y) - bg;
-      if (w <= 0) continue;
-      sw += w;
-      sx += w * x;
-      sy += w * y;
-      sxx += w * x * x;
-      syy += w * y * y;
-      sxy += w * x * y;
-    }
-  elongation = 1;
-  sigma = 0;
-  if (sw <= 0) return;
-  const double mx = sx / sw, my = sy / sw;
-  const double a = sxx / sw - mx * mx, b = syy / sw - my * my, c = sxy / sw - mx * my;
-  const double tr = 0.5 * (a + b), dd = std::sqrt(std::max(0.0, 0.25 * (a - b) * (a - b) + c * c));
-  const double l1 = tr + dd, l2 = std::max(tr - dd, 1.0 / 12.0);
-  elongation = std::sqrt(l1 / l2);
-  sigma = std::sqrt(std::max(tr - 1.0 / 12.0, 0.0));
-}
+  void add(int x, int y, double w) {
+    if (w <= 0) return;
+    sw += w;
+    sx += w * x;
+    sy += w * y;
+    sxx += w * x * x;
+    syy += w * y * y;
+    sxy += w * x * y;
+  }
+  void shape(double& elongation, double& sigma) const {
+    elongation = 1;
+    sigma = 0;
+    if (sw <= 0) return;
+    const double mx = sx / sw, my = sy / sw;
+    const double a = sxx / sw - mx * mx, b = syy / sw - my * my, c = sxy / sw - mx * my;
+    const double tr = 0.5 * (a + b);
+    const double dd = std::sqrt(std::max(0.0, 0.25 * (a - b) * (a - b) + c * c));
+    const double l1 = tr + dd, l2 = std::max(tr - dd, 1.0 / 12.0);
+    elongation = std::sqrt(l1 / l2);
+    sigma = std::sqrt(std::max(tr - 1.0 / 12.0, 0.0));
+  }
+};
 
+// A patch over `r` whose values live in a per-thread buffer: no allocation per star once the
+// buffer has grown to the largest window (valid until the next call on this thread).
+template <typename T>
 StarPatch makePatch(const cv::Mat& grey, const cv::Rect& r, double bg, double sigma_bg,
                     double sat, double psf, const Vec2& guess, const DetectorOptions& opts) {
+  thread_local std::vector<float> buf;
+  buf.resize(static_cast<std::size_t>(r.area()));
+  float* out = buf.data();
+  for (int y = r.y; y < r.y + r.height; ++y) {
+    const T* row = grey.ptr<T>(y);
+    for (int x = r.x; x < r.x + r.width; ++x) *out++ = static_cast<float>(row[x]);
+  }
   StarPatch p;
-  grey(r).convertTo(p.values, CV_32F);
+  p.values = cv::Mat1f(r.height, r.width, buf.data());  // a header only
   p.origin = r.tl();
   p.background = bg;
   p.sigma_bg = sigma_bg;
@@ -102,6 +107,18 @@ StarPatch makePatch(const cv::Mat& grey, const cv::Rect& r, double bg, double si
   return p;
 }
 
+// One instance of each centroider for the whole program (they are stateless).
+const Centroider& centroiderNamed(const std::string& name) {
+  static const std::vector<std::unique_ptr<Centroider>> all = [] {
+    std::vector<std::unique_ptr<Centroider>> v;
+    for (const std::string& n : Centroider::names()) v.push_back(Centroider::create(n));
+    return v;
+  }();
+  for (const auto& c : all)
+    if (c->name() == name) return *c;
+  throw InputError("unknown centroider '" + name + "'");
+}
+
 // The configured centroider, with the plain CoG as the fallback when it fails.
 bool measure(const Centroider& main, const Centroider& fallback, const StarPatch& p,
              Centroid& c, std::string* reason) {
@@ -110,13 +127,184 @@ bool measure(const Centroider& main, const Centroider& fallback, const StarPatch
 }
 
 struct Candidate {
-  int label;
-  cv::Rect box;
-  int area;
+  int blob;
   double sum;
-  cv::Point peak;
-  double peak_raw;
 };
+
+template <typename T>
+DetectionResult measureBlobs(const cv::Mat& grey, const BackgroundModel& bg,
+                             const BlobLabeller& lab, const DetectorOptions& opts,
+                             DetectionResult res) {
+  const double sat = saturationLevel(grey, opts);
+  const std::vector<Blob>& blobs = lab.blobs();
+  // Brightness of each blob above its local background, for the brightest-first order.
+  thread_local std::vector<Candidate> cands;
+  cands.clear();
+  for (std::size_t i = 0; i < blobs.size(); ++i) {
+    const Blob& bl = blobs[i];
+    if (bl.area < opts.min_area || bl.area > opts.max_area) {
+      ++res.rejected;
+      continue;
+    }
+    const cv::Rect box = bl.box();
+    const double b = bg.levelAt(box.x + 0.5 * box.width, box.y + 0.5 * box.height);
+    cands.push_back({static_cast<int>(i), bl.sum_raw - bl.area * b});
+  }
+  std::sort(cands.begin(), cands.end(),
+            [](const Candidate& a, const Candidate& b) { return a.sum > b.sum; });
+
+  const Centroider& main = centroiderNamed(opts.centroider);
+  const Centroider& cog = centroiderNamed("cog");
+  const cv::Rect frame(0, 0, grey.cols, grey.rows);
+  const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
+  res.stars.reserve(static_cast<std::size_t>(std::min<std::size_t>(
+      static_cast<std::size_t>(opts.max_stars), cands.size())));
+  for (const Candidate& cand : cands) {
+    if (static_cast<int>(res.stars.size()) >= opts.max_stars) break;
+    const Blob& c = blobs[static_cast<std::size_t>(cand.blob)];
+    const cv::Rect box = c.box();
+    const double b = bg.levelAt(c.peak.x, c.peak.y), sb = bg.sigmaAt(c.peak.x, c.peak.y);
+    uint32_t flags = 0;
+    if (box.x == 0 || box.y == 0 || box.x + box.width == grey.cols ||
+        box.y + box.height == grey.rows)
+      flags |= kTouchesEdge;
+    if (c.peak_raw >= sat) flags |= kSaturated;
+    Moments mom;
+    lab.forEachPixel(grey, c, [&](int x, int y, double v) { mom.add(x, y, v - b); });
+    double elong = 1, psf = 0;
+    mom.shape(elong, psf);
+    if (elong > opts.max_elongation) flags |= kElongated;
+    // Hot pixel: nearly all the light of the 3x3 around the peak in the peak itself.
+    const cv::Rect r3 = cv::Rect(c.peak.x - 1, c.peak.y - 1, 3, 3) & frame;
+    double s3 = 0;
+    for (int y = r3.y; y < r3.y + r3.height; ++y)
+      for (int x = r3.x; x < r3.x + r3.width; ++x) s3 += std::max(pix<T>(grey, x, y) - b, 0.0);
+    if (s3 > 0 && (c.peak_raw - b) / s3 > opts.hot_pixel_fraction && !(flags & kSaturated))
+      flags |= kHotPixel;
+    if (flags & opts.reject_flags) {
+      ++res.rejected;
+      continue;
+    }
+    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
+    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    // Window: the blob's box plus a margin, and at least +-2.5 PSF sigma around the peak.
+    const int h = static_cast<int>(std::ceil(2.5 * psf));
+    cv::Rect win(box.x - opts.window_margin_px, box.y - opts.window_margin_px,
+                 box.width + 2 * opts.window_margin_px, box.height + 2 * opts.window_margin_px);
+    win |= cv::Rect(c.peak.x - h, c.peak.y - h, 2 * h + 1, 2 * h + 1);
+    win &= frame;
+    const StarPatch patch =
+        makePatch<T>(grey, win, b, sb, sat, psf, Vec2(c.peak.x, c.peak.y), opts);
+    Centroid star;
+    if (!measure(main, cog, patch, star, nullptr)) {
+      ++res.rejected;
+      continue;
+    }
+    star.area = c.area;
+    star.flags = flags;
+    bool dup = false;
+    for (const Centroid& o : res.stars)
+      if ((o.px - star.px).squaredNorm() < min_sep2) dup = true;
+    if (dup) {
+      ++res.duplicates;
+      continue;
+    }
+    res.stars.push_back(star);
+  }
+  std::stable_sort(res.stars.begin(), res.stars.end(),
+                   [](const Centroid& a, const Centroid& b) { return a.flux > b.flux; });
+  if (res.stars.empty()) res.reason = "no blob passed the filters";
+  return res;
+}
+
+// One predictive window (seed 004 §4.2.3): background from the window's border ring, the
+// brightest pixel inside, and the centroid in a PSF-sized window around it.
+template <typename T>
+void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorOptions& opts,
+                    double sat, const Centroider& main, const Centroider& cog, WindowResult& w) {
+  const cv::Rect frame(0, 0, grey.cols, grey.rows);
+  if (!p.px.allFinite() || p.px.x() < -0.5 || p.px.y() < -0.5 || p.px.x() > grey.cols - 0.5 ||
+      p.px.y() > grey.rows - 0.5) {
+    w.reason = "outside image";
+    return;
+  }
+  const int h = windowHalfSize(p, opts);
+  const int cx = static_cast<int>(std::lround(p.px.x())),
+            cy = static_cast<int>(std::lround(p.px.y()));
+  const cv::Rect win = cv::Rect(cx - h, cy - h, 2 * h + 1, 2 * h + 1) & frame;
+  if (win.width < 3 || win.height < 3) {
+    w.reason = "outside image";
+    return;
+  }
+  // Background and noise from the window's border ring; peak inside.
+  thread_local std::vector<float> ring;
+  ring.clear();
+  double peak = -1;
+  cv::Point pk;
+  for (int y = win.y; y < win.y + win.height; ++y) {
+    const T* row = grey.ptr<T>(y);
+    const bool edge_row = y == win.y || y == win.y + win.height - 1;
+    for (int x = win.x; x < win.x + win.width; ++x) {
+      const double v = row[x];
+      if (v > peak) {
+        peak = v;
+        pk = {x, y};
+      }
+    }
+    if (edge_row) {
+      for (int x = win.x; x < win.x + win.width; ++x) ring.push_back(static_cast<float>(row[x]));
+    } else {
+      ring.push_back(static_cast<float>(row[win.x]));
+      ring.push_back(static_cast<float>(row[win.x + win.width - 1]));
+    }
+  }
+  double b, sb;
+  robustLevelSigma(ring, b, sb);
+  sb = std::max({sb, opts.read_noise_adu, 0.3});
+  if (peak - b < opts.threshold_sigma * sb) {
+    w.reason = "below threshold";
+    return;
+  }
+  // Centroid window around the peak, inside the search window: PSF radius plus the streak.
+  const double psf0 = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
+  const double blur = p.blur_px.norm();
+  const int hc = static_cast<int>(std::ceil(2.5 * psf0 + 0.5 * blur));
+  const cv::Rect full(pk.x - hc, pk.y - hc, 2 * hc + 1, 2 * hc + 1);
+  const cv::Rect cw = full & win;
+  uint32_t flags = 0;
+  if (peak >= sat) flags |= kSaturated;
+  if ((full & frame).area() != full.area()) flags |= kTouchesEdge;
+  const double thr = b + opts.threshold_sigma * sb;
+  int area = 0;
+  Moments mom;
+  for (int y = cw.y; y < cw.y + cw.height; ++y) {
+    const T* row = grey.ptr<T>(y);
+    for (int x = cw.x; x < cw.x + cw.width; ++x) {
+      const double v = row[x];
+      if (v > thr) {
+        ++area;
+        mom.add(x, y, v - b);
+      }
+    }
+  }
+  double elong = 1, psf = 0;
+  mom.shape(elong, psf);
+  if (elong > opts.max_elongation) flags |= kElongated;
+  if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
+  psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+  const StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+  // A streak is not a round PSF: the plain CoG measures its middle.
+  const Centroider& c = blur > 2.0 * psf ? cog : main;
+  Centroid star;
+  std::string reason;
+  if (!measure(c, cog, patch, star, &reason)) {
+    w.reason = "not found: " + reason;
+    return;
+  }
+  star.area = area;
+  star.flags = flags;
+  w.centroid = star;
+}
 
 }  // namespace
 
@@ -144,125 +332,55 @@ DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts) {
     return res;
   }
 
-  // Threshold at k sigma above the (tiled) background (seed 004 §4.1).
-  cv::Mat mask(grey.size(), CV_8U);
+  // Threshold at k sigma above the (tiled) background (seed 004 §4.1), blobs 8-connected.
+  thread_local BlobLabeller lab;
   const double k = opts.threshold_sigma;
-  if (bg.tile > 0) {
-    for (int ty = 0; ty < bg.tiles_y; ++ty)
-      for (int tx = 0; tx < bg.tiles_x; ++tx) {
-        const cv::Rect r(tx * bg.tile, ty * bg.tile, std::min(bg.tile, grey.cols - tx * bg.tile),
-                         std::min(bg.tile, grey.rows - ty * bg.tile));
-        const std::size_t i = static_cast<std::size_t>(ty * bg.tiles_x + tx);
-        cv::compare(grey(r), bg.tile_level[i] + k * bg.tile_sigma[i], mask(r), cv::CMP_GT);
-      }
+  if (opts.prefilter == "none") {
+    // Sparse: only the pixels above the threshold are ever visited after the compare.
+    thread_local std::vector<double> thr;
+    if (bg.tile > 0) {
+      thr.resize(bg.tile_level.size());
+      for (std::size_t i = 0; i < thr.size(); ++i) thr[i] = bg.tile_level[i] + k * bg.tile_sigma[i];
+    } else {
+      thr.assign(1, bg.level + k * bg.sigma);
+    }
+    lab.labelThreshold(grey, bg.tile, bg.tile > 0 ? bg.tiles_x : 1, thr);
   } else {
-    cv::compare(grey, bg.level + k * bg.sigma, mask, cv::CMP_GT);
+    // The pre-filters count candidates in 5x5 neighbourhoods: they need the mask.
+    cv::Mat mask(grey.size(), CV_8U);
+    if (bg.tile > 0) {
+      for (int ty = 0; ty < bg.tiles_y; ++ty)
+        for (int tx = 0; tx < bg.tiles_x; ++tx) {
+          const cv::Rect r(tx * bg.tile, ty * bg.tile,
+                           std::min(bg.tile, grey.cols - tx * bg.tile),
+                           std::min(bg.tile, grey.rows - ty * bg.tile));
+          const std::size_t i = static_cast<std::size_t>(ty * bg.tiles_x + tx);
+          cv::compare(grey(r), bg.tile_level[i] + k * bg.tile_sigma[i], mask(r), cv::CMP_GT);
+        }
+    } else {
+      cv::compare(grey, bg.level + k * bg.sigma, mask, cv::CMP_GT);
+    }
+    applyPrefilter(mask, opts.prefilter, opts.prefilter_min_count);
+    lab.labelMask(mask, grey);
   }
-  applyPrefilter(mask, opts.prefilter, opts.prefilter_min_count);
-
-  cv::Mat labels, stats, cents;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats, cents, 8, CV_32S);
-  res.blobs_found = n - 1;
-  if (n <= 1) {
+  res.blobs_found = static_cast<int>(lab.blobs().size());
+  if (lab.blobs().empty()) {
     double lo = 0, hi = 0;
     cv::minMaxLoc(grey, &lo, &hi);
     res.reason = lo == hi ? "blank image (constant value " + std::to_string(lo) + ")"
                           : "no pixel above the threshold";
     return res;
   }
-
-  // Brightness of each blob above its local background, for the brightest-first order.
-  std::vector<Candidate> cands;
-  cands.reserve(static_cast<std::size_t>(n - 1));
-  for (int l = 1; l < n; ++l) {
-    const int* s = stats.ptr<int>(l);
-    const int area = s[cv::CC_STAT_AREA];
-    if (area < opts.min_area || area > opts.max_area) {
-      ++res.rejected;
-      continue;
-    }
-    Candidate c{l, cv::Rect(s[0], s[1], s[2], s[3]), area, 0.0, {}, -1.0};
-    const double b = bg.levelAt(c.box.x + 0.5 * c.box.width, c.box.y + 0.5 * c.box.height);
-    for (int y = c.box.y; y < c.box.y + c.box.height; ++y) {
-      const int* lab = labels.ptr<int>(y);
-      for (int x = c.box.x; x < c.box.x + c.box.width; ++x) {
-        if (lab[x] != l) continue;
-        const double v = pixel(grey, x, y);
-        c.sum += v - b;
-        if (v > c.peak_raw) {
-          c.peak_raw = v;
-          c.peak = {x, y};
-        }
-      }
-    }
-    cands.push_back(c);
-  }
-  std::sort(cands.begin(), cands.end(),
-            [](const Candidate& a, const Candidate& b) { return a.sum > b.sum; });
-
-  const auto main = Centroider::create(opts.centroider);
-  const auto cog = makeCogCentroider();
-  const cv::Rect frame(0, 0, grey.cols, grey.rows);
-  const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
-  for (const Candidate& c : cands) {
-    if (static_cast<int>(res.stars.size()) >= opts.max_stars) break;
-    const double b = bg.levelAt(c.peak.x, c.peak.y), sb = bg.sigmaAt(c.peak.x, c.peak.y);
-    uint32_t flags = 0;
-    if (c.box.x == 0 || c.box.y == 0 || c.box.x + c.box.width == grey.cols ||
-        c.box.y + c.box.height == grey.rows)
-      flags |= kTouchesEdge;
-    if (c.peak_raw >= sat) flags |= kSaturated;
-    double elong = 1, psf = 0;
-    shape(grey, c.box, b, [&](int x, int y) { return labels.ptr<int>(y)[x] == c.label; }, elong,
-          psf);
-    if (elong > opts.max_elongation) flags |= kElongated;
-    // Hot pixel: nearly all the light of the 3x3 around the peak in the peak itself.
-    const cv::Rect r3 = cv::Rect(c.peak.x - 1, c.peak.y - 1, 3, 3) & frame;
-    double s3 = 0;
-    for (int y = r3.y; y < r3.y + r3.height; ++y)
-      for (int x = r3.x; x < r3.x + r3.width; ++x) s3 += std::max(pixel(grey, x, y) - b, 0.0);
-    if (s3 > 0 && (c.peak_raw - b) / s3 > opts.hot_pixel_fraction && !(flags & kSaturated))
-      flags |= kHotPixel;
-    if (flags & opts.reject_flags) {
-      ++res.rejected;
-      continue;
-    }
-    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
-    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
-    // Window: the blob's box plus a margin, and at least +-2.5 PSF sigma around the peak.
-    const int h = static_cast<int>(std::ceil(2.5 * psf));
-    cv::Rect win(c.box.x - opts.window_margin_px, c.box.y - opts.window_margin_px,
-                 c.box.width + 2 * opts.window_margin_px, c.box.height + 2 * opts.window_margin_px);
-    win |= cv::Rect(c.peak.x - h, c.peak.y - h, 2 * h + 1, 2 * h + 1);
-    win &= frame;
-    const StarPatch patch =
-        makePatch(grey, win, b, sb, sat, psf, Vec2(c.peak.x, c.peak.y), opts);
-    Centroid star;
-    if (!measure(*main, *cog, patch, star, nullptr)) {
-      ++res.rejected;
-      continue;
-    }
-    star.area = c.area;
-    star.flags = flags;
-    bool dup = false;
-    for (const Centroid& o : res.stars)
-      if ((o.px - star.px).squaredNorm() < min_sep2) dup = true;
-    if (dup) {
-      ++res.duplicates;
-      continue;
-    }
-    res.stars.push_back(star);
-  }
-  std::stable_sort(res.stars.begin(), res.stars.end(),
-                   [](const Centroid& a, const Centroid& b) { return a.flux > b.flux; });
-  if (res.stars.empty()) res.reason = "no blob passed the filters";
-  return res;
+  return grey.depth() == CV_8U ? measureBlobs<uint8_t>(grey, bg, lab, opts, std::move(res))
+                               : measureBlobs<uint16_t>(grey, bg, lab, opts, std::move(res));
 }
 
 int windowHalfSize(const PredictedStar& p, const DetectorOptions& opts) {
-  const Eigen::SelfAdjointEigenSolver<Mat2> es(0.5 * (p.cov_px + p.cov_px.transpose()),
-                                               Eigen::EigenvaluesOnly);
-  const double sd = std::sqrt(std::max(es.eigenvalues()[1], 0.0));
+  // Largest eigenvalue of the symmetric part of the 2x2 covariance, in closed form.
+  const double a = p.cov_px(0, 0), d = p.cov_px(1, 1);
+  const double c = 0.5 * (p.cov_px(0, 1) + p.cov_px(1, 0));
+  const double lmax = 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + c * c);
+  const double sd = std::sqrt(std::max(lmax, 0.0));
   const double psf = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
   const double h = opts.window_sigmas * sd + 3.0 * psf + 0.5 * p.blur_px.norm();
   if (!std::isfinite(h)) return opts.max_window_half_px;
@@ -281,80 +399,13 @@ std::vector<WindowResult> centroidWindows(const cv::Mat& image,
     return out;
   }
   const double sat = saturationLevel(grey, opts);
-  const auto main = Centroider::create(opts.centroider);
-  const auto cog = makeCogCentroider();
-  const cv::Rect frame(0, 0, grey.cols, grey.rows);
-  const double psf0 = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
-  thread_local std::vector<float> ring;
+  const Centroider& main = centroiderNamed(opts.centroider);
+  const Centroider& cog = centroiderNamed("cog");
   for (std::size_t i = 0; i < predicted.size(); ++i) {
-    const PredictedStar& p = predicted[i];
-    WindowResult& w = out[i];
-    if (!p.px.allFinite() || p.px.x() < -0.5 || p.px.y() < -0.5 ||
-        p.px.x() > grey.cols - 0.5 || p.px.y() > grey.rows - 0.5) {
-      w.reason = "outside image";
-      continue;
-    }
-    const int h = windowHalfSize(p, opts);
-    const int cx = static_cast<int>(std::lround(p.px.x())),
-              cy = static_cast<int>(std::lround(p.px.y()));
-    const cv::Rect win = cv::Rect(cx - h, cy - h, 2 * h + 1, 2 * h + 1) & frame;
-    if (win.width < 3 || win.height < 3) {
-      w.reason = "outside image";
-      continue;
-    }
-    // Background and noise from the window's border ring; peak inside.
-    ring.clear();
-    double peak = -1;
-    cv::Point pk;
-    for (int y = win.y; y < win.y + win.height; ++y) {
-      const bool edge_row = y == win.y || y == win.y + win.height - 1;
-      for (int x = win.x; x < win.x + win.width; ++x) {
-        const double v = pixel(grey, x, y);
-        if (edge_row || x == win.x || x == win.x + win.width - 1)
-          ring.push_back(static_cast<float>(v));
-        if (v > peak) {
-          peak = v;
-          pk = {x, y};
-        }
-      }
-    }
-    double b, sb;
-    robustLevelSigma(ring, b, sb);
-    sb = std::max({sb, opts.read_noise_adu, 0.3});
-    if (peak - b < opts.threshold_sigma * sb) {
-      w.reason = "below threshold";
-      continue;
-    }
-    // Centroid window around the peak, inside the search window: PSF radius plus the streak.
-    const double blur = p.blur_px.norm();
-    const int hc = static_cast<int>(std::ceil(2.5 * psf0 + 0.5 * blur));
-    const cv::Rect cw = cv::Rect(pk.x - hc, pk.y - hc, 2 * hc + 1, 2 * hc + 1) & win;
-    uint32_t flags = 0;
-    if (peak >= sat) flags |= kSaturated;
-    if ((cv::Rect(pk.x - hc, pk.y - hc, 2 * hc + 1, 2 * hc + 1) & frame).area() !=
-        (2 * hc + 1) * (2 * hc + 1))
-      flags |= kTouchesEdge;
-    const double thr = b + opts.threshold_sigma * sb;
-    int area = 0;
-    for (int y = cw.y; y < cw.y + cw.height; ++y)
-      for (int x = cw.x; x < cw.x + cw.width; ++x) area += pixel(grey, x, y) > thr;
-    double elong = 1, psf = 0;
-    shape(grey, cw, b, [&](int x, int y) { return pixel(grey, x, y) > thr; }, elong, psf);
-    if (elong > opts.max_elongation) flags |= kElongated;
-    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
-    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
-    const StarPatch patch = makePatch(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
-    // A streak is not a round PSF: the plain CoG measures its middle.
-    const Centroider& c = blur > 2.0 * psf ? *cog : *main;
-    Centroid star;
-    std::string reason;
-    if (!measure(c, *cog, patch, star, &reason)) {
-      w.reason = "not found: " + reason;
-      continue;
-    }
-    star.area = area;
-    star.flags = flags;
-    w.centroid = star;
+    if (grey.depth() == CV_8U)
+      centroidWindow<uint8_t>(grey, predicted[i], opts, sat, main, cog, out[i]);
+    else
+      centroidWindow<uint16_t>(grey, predicted[i], opts, sat, main, cog, out[i]);
   }
   return out;
 }
