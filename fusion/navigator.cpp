@@ -1,0 +1,615 @@
+#include "fusion/navigator.hpp"
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/obs/CObservation6DFeatures.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/system/datetime.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
+#include <set>
+#include <sstream>
+
+#include "catalog/star_catalog.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "common/mrpt_convert.hpp"
+#include "sensors/attitude/wahba.hpp"
+#include "sensors/identify/identifier.hpp"
+#include "sensors/sim/sim_observations.hpp"
+
+namespace st {
+
+namespace {
+
+enum Kind { kGyro = 0, kCamera = 1, kTruth = 2, kOther = 3 };
+
+std::string fmtTime(double t) {
+  char b[64];
+  std::snprintf(b, sizeof b, "t = %.6f s", t);
+  return b;
+}
+
+}  // namespace
+
+// ---- options ---------------------------------------------------------------------------
+
+void NavigatorOptions::validate() const {
+  auto bad = [](const std::string& key, const std::string& why) {
+    throw InputError("navigator option '" + key + "': " + why);
+  };
+  pipeline.validate();
+  std::string err;
+  if (!filter.isValid(&err)) bad("filter", err);
+  if (update != "attitude" && update != "stars") bad("update", "'" + update + "': attitude|stars");
+  if (reinit_after_rejections < 1) bad("reinit_after_rejections", "must be >= 1");
+  if (!(reorder_window_s >= 0)) bad("reorder_window_s", "must be >= 0");
+  if (!(gyro_gap_factor > 1)) bad("gyro_gap_factor", "must be > 1");
+}
+
+namespace {
+
+/// Strict readers: a key that is present must parse completely.
+struct IniReader {
+  const mrpt::config::CConfigFileBase& cfg;
+  std::string source;
+
+  std::string where(const std::string& sec, const std::string& key) const {
+    return source + ": [" + sec + "] " + key;
+  }
+  bool has(const std::string& sec, const std::string& key) const {
+    return !cfg.read_string(sec, key, "", false).empty();
+  }
+  std::string str(const std::string& sec, const std::string& key, const std::string& def) const {
+    const std::string v = cfg.read_string(sec, key, "", false);
+    return v.empty() ? def : v;
+  }
+  double num(const std::string& sec, const std::string& key, double def) const {
+    const std::string v = cfg.read_string(sec, key, "", false);
+    if (v.empty()) return def;
+    try {
+      std::size_t pos = 0;
+      const double d = std::stod(v, &pos);
+      if (v.find_first_not_of(" \t\r", pos) == std::string::npos && std::isfinite(d)) return d;
+    } catch (const std::exception&) {
+    }
+    throw InputError(where(sec, key) + " = '" + v + "': not a number");
+  }
+  int integer(const std::string& sec, const std::string& key, int def) const {
+    const double d = num(sec, key, def);
+    if (d != std::floor(d) || std::abs(d) > 1e9)
+      throw InputError(where(sec, key) + ": not an integer");
+    return static_cast<int>(d);
+  }
+  bool boolean(const std::string& sec, const std::string& key, bool def) const {
+    std::string v = cfg.read_string(sec, key, "", false);
+    if (v.empty()) return def;
+    std::transform(v.begin(), v.end(), v.begin(), ::tolower);
+    if (v == "true" || v == "1" || v == "yes" || v == "on") return true;
+    if (v == "false" || v == "0" || v == "no" || v == "off") return false;
+    throw InputError(where(sec, key) + " = '" + v + "': not a boolean (true/false)");
+  }
+  void onlyKeys(const std::string& sec, const std::set<std::string>& allowed) const {
+    if (!cfg.sectionExists(sec)) return;
+    std::vector<std::string> keys;
+    cfg.getAllKeys(sec, keys);
+    for (const auto& k : keys) {
+      if (!allowed.count(k)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        throw InputError(where(sec, k) + ": unknown key (known: " + list + ")");
+      }
+    }
+  }
+};
+
+std::string resolvePath(const std::string& p, const std::string& base_dir) {
+  if (p.empty() || std::filesystem::path(p).is_absolute()) return p;
+  return (std::filesystem::path(base_dir) / p).string();
+}
+
+}  // namespace
+
+TrackerConfig TrackerConfig::load(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(path + ": tracker config not found");
+  mrpt::config::CConfigFile cfg(path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  return fromConfig(cfg, path, dir.empty() ? "." : dir);
+}
+
+TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg,
+                                        const std::string& source, const std::string& base_dir) {
+  const IniReader r{cfg, source};
+  TrackerConfig c;
+  c.source = source;
+  r.onlyKeys("filter", {"arw_deg_rt_h", "rrw_deg_h_rt_h", "bias_sigma_deg_h", "gate_probability",
+                        "gate", "update", "max_star_vectors"});
+  r.onlyKeys("navigator", {"reinit_after_rejections", "reorder_window_s", "gyro_gap_factor",
+                           "camera_label", "gyro_label", "truth_label"});
+  r.onlyKeys("pipeline",
+             {"lis_algorithm", "solver", "exposure_s", "min_sigma_px", "max_tracked_stars",
+              "min_tracked_stars", "gate_sigma", "edge_margin_px", "blend_separation_px",
+              "loss_probability", "consistency_probability", "max_failed_frames",
+              "gain_e_per_adu", "read_noise_adu", "threshold_sigma", "centroider",
+              "psf_sigma_px", "max_stars", "identify_max_stars", "pair_sigma", "sensor_label"});
+  r.onlyKeys("database", {"path", "catalog", "mag_limit", "epoch_jyear", "aberration"});
+
+  NavigatorOptions& n = c.nav;
+  // [filter]: gyro datasheet numbers.
+  n.filter = MekfOptions::fromDatasheet(r.num("filter", "arw_deg_rt_h", 0.15),
+                                        r.num("filter", "rrw_deg_h_rt_h", 0.5),
+                                        r.num("filter", "bias_sigma_deg_h", 10.0));
+  n.filter.gate_probability = r.num("filter", "gate_probability", n.filter.gate_probability);
+  n.filter.gate_enabled = r.boolean("filter", "gate", n.filter.gate_enabled);
+  n.filter.max_star_vectors = r.integer("filter", "max_star_vectors", n.filter.max_star_vectors);
+  n.update = r.str("filter", "update", n.update);
+  std::string err;
+  if (!n.filter.isValid(&err)) throw InputError(source + ": [filter]: " + err);
+  if (n.update != "attitude" && n.update != "stars")
+    throw InputError(r.where("filter", "update") + " = '" + n.update + "': attitude or stars");
+
+  // [navigator]
+  n.reinit_after_rejections =
+      r.integer("navigator", "reinit_after_rejections", n.reinit_after_rejections);
+  n.reorder_window_s = r.num("navigator", "reorder_window_s", n.reorder_window_s);
+  n.gyro_gap_factor = r.num("navigator", "gyro_gap_factor", n.gyro_gap_factor);
+  n.camera_label = r.str("navigator", "camera_label", n.camera_label);
+  n.gyro_label = r.str("navigator", "gyro_label", n.gyro_label);
+  n.truth_label = r.str("navigator", "truth_label", n.truth_label);
+
+  // [pipeline]
+  PipelineOptions& p = n.pipeline;
+  p.sensor_label = r.str("pipeline", "sensor_label", p.sensor_label);
+  p.lis_algorithm = r.str("pipeline", "lis_algorithm", p.lis_algorithm);
+  p.solver = r.str("pipeline", "solver", p.solver);
+  p.identify.solver = p.solver;
+  p.exposure_s = r.num("pipeline", "exposure_s", p.exposure_s);
+  p.min_sigma_px = r.num("pipeline", "min_sigma_px", p.min_sigma_px);
+  p.max_tracked_stars = r.integer("pipeline", "max_tracked_stars", p.max_tracked_stars);
+  p.min_tracked_stars = r.integer("pipeline", "min_tracked_stars", p.min_tracked_stars);
+  p.gate_sigma = r.num("pipeline", "gate_sigma", p.gate_sigma);
+  p.edge_margin_px = r.num("pipeline", "edge_margin_px", p.edge_margin_px);
+  p.blend_separation_px = r.num("pipeline", "blend_separation_px", p.blend_separation_px);
+  p.loss_probability = r.num("pipeline", "loss_probability", p.loss_probability);
+  p.consistency_probability =
+      r.num("pipeline", "consistency_probability", p.consistency_probability);
+  p.max_failed_frames = r.integer("pipeline", "max_failed_frames", p.max_failed_frames);
+  p.detect.gain_e_per_adu = r.num("pipeline", "gain_e_per_adu", p.detect.gain_e_per_adu);
+  p.detect.read_noise_adu = r.num("pipeline", "read_noise_adu", p.detect.read_noise_adu);
+  p.detect.threshold_sigma = r.num("pipeline", "threshold_sigma", p.detect.threshold_sigma);
+  p.detect.centroider = r.str("pipeline", "centroider", p.detect.centroider);
+  p.detect.psf_sigma_px = r.num("pipeline", "psf_sigma_px", p.detect.psf_sigma_px);
+  p.detect.max_stars = r.integer("pipeline", "max_stars", p.detect.max_stars);
+  p.identify.max_stars = r.integer("pipeline", "identify_max_stars", p.identify.max_stars);
+  p.identify.pair_sigma = r.num("pipeline", "pair_sigma", p.identify.pair_sigma);
+  std::string name_err;
+  if (!WahbaSolver::create(p.solver, &name_err))
+    throw InputError(r.where("pipeline", "solver") + " = '" + p.solver + "': " + name_err);
+  if (!StarIdentifier::create(p.lis_algorithm, p.identify, &name_err)) {
+    throw InputError(r.where("pipeline", "lis_algorithm") + " = '" + p.lis_algorithm +
+                     "': " + name_err);
+  }
+  try {
+    n.validate();
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
+
+  // [database]
+  c.database.path = resolvePath(r.str("database", "path", ""), base_dir);
+  c.database.catalog = resolvePath(r.str("database", "catalog", ""), base_dir);
+  c.database.mag_limit = r.num("database", "mag_limit", c.database.mag_limit);
+  c.database.epoch_jyear = r.num("database", "epoch_jyear", c.database.epoch_jyear);
+  c.database.aberration = r.boolean("database", "aberration", c.database.aberration);
+
+  // [camera]
+  if (cfg.sectionExists("camera")) c.camera = CameraModel::loadIni(cfg, "camera", source);
+  return c;
+}
+
+StarDatabase makeDatabase(const DatabaseSource& src, const CameraModel& camera,
+                          double data_epoch_jyear) {
+  if (!src.path.empty()) return StarDatabase::load(src.path);
+  const std::string cat_path =
+      src.catalog.empty() ? StarDatabase::defaultCatalogPath() : src.catalog;
+  const double max_diag = 2.0 * camera.halfDiagonalFov();
+  DatabaseParams p{};
+  p.max_pair_angle = max_diag + deg2rad(0.2);
+  p.mag_limit = src.mag_limit;
+  p.epoch_jyear = src.epoch_jyear > 0 ? src.epoch_jyear : data_epoch_jyear;
+  p.aberration = src.aberration;
+  p.double_star_sep = 1.5 * camera.pixelScale();  // unresolved doubles (as `solve`)
+  p.max_stars_per_region = 0;
+  p.neighbour_radius = max_diag / 2;
+  return StarDatabase::build(loadCatalog(cat_path), p);
+}
+
+// ---- CSV -----------------------------------------------------------------------------
+
+std::string navStepCsvHeader() {
+  return "t_s,has_frame,mode,stars,frame_ms,initialized,reinit,qw,qx,qy,qz,"
+         "bias_x_deg_h,bias_y_deg_h,bias_z_deg_h,sigma_x_arcsec,sigma_y_arcsec,sigma_z_arcsec,"
+         "sigma_bias_x_deg_h,sigma_bias_y_deg_h,sigma_bias_z_deg_h,update,"
+         "innov_x_arcsec,innov_y_arcsec,innov_z_arcsec,innov_sigma_x_arcsec,"
+         "innov_sigma_y_arcsec,innov_sigma_z_arcsec,nis,nis_dof,has_truth,err_arcsec,"
+         "err_cross_arcsec,err_roll_arcsec,nees,fix_err_arcsec,sigma_cross_arcsec,"
+         "sigma_roll_arcsec";
+}
+
+std::string navStepCsvRow(const NavStep& s) {
+  const double deg_h = kDegPerRad * 3600.0;
+  std::ostringstream o;
+  o.precision(10);
+  o << s.t << ',' << int(s.has_frame) << ','
+    << (s.has_frame ? toString(s.mode) : "no-frame") << ',' << s.stars_matched << ','
+    << s.frame_time_s * 1e3 << ',' << int(s.initialized) << ',' << int(s.reinitialized);
+  const Quat q = canonical(s.q_ib);
+  o << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z();
+  for (int i = 0; i < 3; ++i) o << ',' << s.bias[i] * deg_h;
+  for (int i = 0; i < 3; ++i) o << ',' << rad2arcsec(s.sigma_att[i]);
+  for (int i = 0; i < 3; ++i) o << ',' << s.sigma_bias[i] * deg_h;
+  o << ',' << s.update;
+  for (int i = 0; i < 3; ++i)
+    o << ',' << (s.innovation.size() > i ? rad2arcsec(s.innovation[i]) : 0.0);
+  for (int i = 0; i < 3; ++i) {
+    o << ','
+      << (s.innovation_cov.rows() > i ? rad2arcsec(std::sqrt(s.innovation_cov(i, i))) : 0.0);
+  }
+  o << ',' << s.nis << ',' << s.nis_dof << ',' << int(s.has_truth);
+  o << ',' << rad2arcsec(s.error.total) << ',' << rad2arcsec(s.error.cross_boresight) << ','
+    << rad2arcsec(s.error.roll) << ',' << s.nees << ','
+    << (s.fix && s.has_truth ? rad2arcsec(s.fix_error.total) : 0.0);
+  const AttitudeSigma sg = attitudeSigma(s.P_att);
+  o << ',' << rad2arcsec(sg.cross_boresight) << ',' << rad2arcsec(sg.roll);
+  return o.str();
+}
+
+// ---- navigator -------------------------------------------------------------------------
+
+struct Navigator::Item {
+  mrpt::Clock::time_point t;
+  int kind;
+  uint64_t seq;
+  mrpt::obs::CObservation::Ptr obs;
+  // std heap is a max-heap: "greater" means later.
+  bool operator<(const Item& o) const {
+    if (t != o.t) return t > o.t;
+    if (kind != o.kind) return kind > o.kind;
+    return seq > o.seq;
+  }
+};
+
+Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options)
+    : db_(db), opts_(std::move(options)), filter_((opts_.validate(), opts_.filter)) {
+  pipeline_ = std::make_unique<StarTrackerPipeline>(db, camera, opts_.pipeline);
+  // Catalog id -> star index, for star-vector updates.
+  std::vector<std::pair<uint32_t, uint32_t>> m;
+  m.reserve(db.stars().size());
+  for (uint32_t i = 0; i < db.stars().size(); ++i) m.emplace_back(db.stars()[i].id, i);
+  std::sort(m.begin(), m.end());
+  for (const auto& [id, i] : m) {
+    id_to_index_keys_.push_back(id);
+    id_to_index_vals_.push_back(i);
+  }
+}
+
+Navigator::~Navigator() = default;
+
+double Navigator::secondsFromStart(mrpt::Clock::time_point t) const {
+  return t0_ ? mrpt::system::timeDifference(*t0_, t) : 0.0;
+}
+
+void Navigator::warn(const std::string& msg) {
+  ++warning_count_;
+  if (static_cast<int>(warnings_.size()) < opts_.max_warnings) warnings_.push_back(msg);
+}
+
+int Navigator::kindOf(const mrpt::obs::CObservation& obs) const {
+  if (obs.sensorLabel == opts_.gyro_label && dynamic_cast<const mrpt::obs::CObservationIMU*>(&obs))
+    return kGyro;
+  if (obs.sensorLabel == opts_.camera_label &&
+      dynamic_cast<const mrpt::obs::CObservationImage*>(&obs))
+    return kCamera;
+  if (obs.sensorLabel == opts_.truth_label &&
+      dynamic_cast<const mrpt::obs::CObservation6DFeatures*>(&obs))
+    return kTruth;
+  return kOther;
+}
+
+void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
+  if (!obs) return;
+  const int kind = kindOf(*obs);
+  if (kind == kOther) return;  // not ours (e.g. STAR_TRACKER of an earlier replay)
+  if (!t0_) t0_ = obs->timestamp;
+  const double t = secondsFromStart(obs->timestamp);
+  const std::pair<mrpt::Clock::time_point, int> key{obs->timestamp, kind};
+  if (last_processed_ && key <= *last_processed_) {
+    warn(std::string(key == *last_processed_ ? "duplicate" : "out-of-order") + " " +
+         obs->sensorLabel + " observation at " + fmtTime(t) +
+         (key == *last_processed_ ? "" : " (already processed up to " +
+                                              fmtTime(secondsFromStart(last_processed_->first)) +
+                                              ")") +
+         ": dropped");
+    return;
+  }
+  for (const Item& it : queue_) {
+    if (it.t == obs->timestamp && it.kind == kind) {
+      warn("duplicate " + obs->sensorLabel + " observation at " + fmtTime(t) + ": dropped");
+      return;
+    }
+  }
+  queue_.push_back({obs->timestamp, kind, seq_++, obs});
+  std::push_heap(queue_.begin(), queue_.end());
+  newest_t_ = std::max(newest_t_, t);
+  while (!queue_.empty() &&
+         secondsFromStart(queue_.front().t) <= newest_t_ - opts_.reorder_window_s) {
+    std::pop_heap(queue_.begin(), queue_.end());
+    Item it = std::move(queue_.back());
+    queue_.pop_back();
+    process(it.obs, it.kind);
+  }
+}
+
+void Navigator::flush() {
+  while (!queue_.empty()) {
+    std::pop_heap(queue_.begin(), queue_.end());
+    Item it = std::move(queue_.back());
+    queue_.pop_back();
+    process(it.obs, it.kind);
+  }
+  finishPending();
+}
+
+void Navigator::process(const mrpt::obs::CObservation::Ptr& obs, int kind) {
+  last_processed_ = {obs->timestamp, kind};
+  if (pending_ && pending_->stamp != obs->timestamp) finishPending();
+  const double t = secondsFromStart(obs->timestamp);
+  switch (kind) {
+    case kGyro: onGyro(*obs, t); break;
+    case kCamera: onCamera(*obs, t); break;
+    case kTruth: onTruth(*obs, t); break;
+    default: break;
+  }
+}
+
+void Navigator::onGyro(const mrpt::obs::CObservation& obs, double t) {
+  const Vec3 rate = rateFromObservation(static_cast<const mrpt::obs::CObservationIMU&>(obs));
+  if (!rate.allFinite()) {
+    warn("GYRO observation at " + fmtTime(t) + " has a non-finite rate: dropped");
+    return;
+  }
+  double dt = 0;
+  if (last_gyro_t_) {
+    dt = t - *last_gyro_t_;
+    if (dt > 0 && (gyro_dt_nominal_ == 0 || dt < gyro_dt_nominal_)) gyro_dt_nominal_ = dt;
+  }
+  const bool gap = last_gyro_t_ && gyro_dt_nominal_ > 0 &&
+                   dt > opts_.gyro_gap_factor * gyro_dt_nominal_;
+  if (gap) {
+    char b[160];
+    std::snprintf(b, sizeof b, "gyro gap of %.3f s ending at %s: coasted", dt, fmtTime(t).c_str());
+    warn(b);
+    // The sample is the mean rate over its own interval only: coast up to its start.
+    if (filter_.initialized()) coastTo(t - gyro_dt_nominal_);
+  }
+  in_gap_ = false;
+  last_gyro_t_ = t;
+  recent_rates_[recent_next_ % recent_rates_.size()] = rate;
+  ++recent_next_;
+  if (!filter_.initialized() || t <= filter_.time()) return;
+  filter_.propagate(rate, t);
+}
+
+Vec3 Navigator::recentMeanRate() const {
+  const std::size_t n = std::min<std::size_t>(recent_next_, recent_rates_.size());
+  Vec3 m = Vec3::Zero();
+  for (std::size_t i = 0; i < n; ++i) m += recent_rates_[i];
+  return n ? Vec3(m / double(n)) : filter_.bias();
+}
+
+void Navigator::coastTo(double t) {
+  if (!filter_.initialized() || !(t > filter_.time())) return;
+  // Without gyro samples the rate is held at the mean of the last samples. That rate's error
+  // is constant over the coast, not white: its variance sigma_v^2 / T_mean (T_mean = the
+  // averaging time) grows the attitude variance by tau^2 sigma_v^2 / T_mean on top of the
+  // filter's own process noise (which models the white rate noise of real samples).
+  const std::size_t n = std::min<std::size_t>(recent_next_, recent_rates_.size());
+  const double t_mean = std::max(1.0, double(n)) * std::max(gyro_dt_nominal_, 1e-3);
+  const double tau = t - filter_.time();
+  const double sv = filter_.options().arw_rad_rt_s;
+  Mat6 P = filter_.covariance();
+  P.topLeftCorner<3, 3>() += Mat3::Identity() * (tau * tau * sv * sv / t_mean);
+  const Vec3 rate = recentMeanRate();
+  filter_.initialize(filter_.time(), filter_.attitude(), filter_.bias(), P);
+  filter_.propagate(rate, t);
+}
+
+bool Navigator::gyroStale(double t) const {
+  return last_gyro_t_ && gyro_dt_nominal_ > 0 &&
+         t - *last_gyro_t_ > opts_.gyro_gap_factor * gyro_dt_nominal_;
+}
+
+void Navigator::fillFilterState(NavStep& s, double t) const {
+  s.initialized = filter_.initialized();
+  if (!s.initialized) return;
+  MekfPrediction p;
+  if (t == filter_.time()) {
+    p.q_ib = filter_.attitude();
+    p.bias = filter_.bias();
+    p.P = filter_.covariance();
+  } else {
+    p = filter_.predictAt(t);
+  }
+  s.q_ib = canonical(p.q_ib);
+  s.bias = p.bias;
+  s.P_att = p.P.topLeftCorner<3, 3>();
+  s.sigma_att = s.P_att.diagonal().cwiseMax(0.0).cwiseSqrt();
+  s.sigma_bias = p.P.bottomRightCorner<3, 3>().diagonal().cwiseMax(0.0).cwiseSqrt();
+}
+
+void Navigator::initializeFrom(const CObservationStarTracker& fix, double t) {
+  if (filter_.initialized()) {
+    // Keep what the filter learned about the bias; the attitude restarts from the fix.
+    Mat6 P = Mat6::Zero();
+    P.topLeftCorner<3, 3>() = fix.cov_body;
+    P.bottomRightCorner<3, 3>() = filter_.covariance().bottomRightCorner<3, 3>();
+    filter_.initialize(t, fix.q_ib, filter_.bias(), P);
+    ++reinits_;
+  } else {
+    filter_.initialize(t, fix.q_ib, fix.cov_body);
+  }
+  consecutive_rejections_ = 0;
+  reinit_pending_ = false;
+}
+
+MekfUpdateResult Navigator::update(const CObservationStarTracker& fix) {
+  if (opts_.update == "attitude" || fix.stars.size() < 2) {
+    return filter_.updateAttitude(fix.q_ib, fix.cov_body);
+  }
+  // Tight coupling: per-star sigma from the fix covariance. For n stars of equal sigma the
+  // QUEST information matrix is sum (I - b b^T) / sigma^2, whose trace is 2 n / sigma^2
+  // (seed 004 §6 covariance of the attitude solution).
+  const Mat3 info = fix.cov_body.inverse();
+  const double n = static_cast<double>(fix.stars.size());
+  const double sigma = std::sqrt(2.0 * n / std::max(info.trace(), 1e-300));
+  const auto& R = fix.sensor_pose.getRotationMatrix();
+  Mat3 R_bc;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R_bc(r, c) = R(r, c);
+  std::vector<StarVectorMeasurement> meas;
+  for (const MatchedStar& m : fix.stars) {
+    const auto it =
+        std::lower_bound(id_to_index_keys_.begin(), id_to_index_keys_.end(), m.catalog_id);
+    if (it == id_to_index_keys_.end() || *it != m.catalog_id) continue;
+    const uint32_t idx = id_to_index_vals_[it - id_to_index_keys_.begin()];
+    meas.push_back(StarVectorMeasurement::fromSigma((R_bc * m.v_cam).normalized(),
+                                                    db_.stars()[idx].u_i, sigma));
+  }
+  if (meas.empty()) return filter_.updateAttitude(fix.q_ib, fix.cov_body);
+  return filter_.updateStarVectors(meas);
+}
+
+void Navigator::onCamera(const mrpt::obs::CObservation& obs, double t) {
+  auto& io = const_cast<mrpt::obs::CObservationImage&>(
+      static_cast<const mrpt::obs::CObservationImage&>(obs));
+  NavStep s;
+  s.stamp = obs.timestamp;
+  s.t = t;
+  cv::Mat image;
+  try {
+    io.image.forceLoad();
+    image = io.image.asCvMatRef();
+  } catch (const std::exception& e) {
+    warn("CAMERA image at " + fmtTime(t) + " cannot be loaded (" +
+         std::string(e.what()).substr(0, 200) + "): frame skipped");
+    return;
+  }
+  if (image.empty()) {
+    warn("CAMERA observation at " + fmtTime(t) + " has an empty image: frame skipped");
+    return;
+  }
+  if (image.channels() == 3) {
+    cv::Mat grey;
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+    image = grey;
+  }
+  if (filter_.initialized() && gyroStale(t)) {
+    if (!in_gap_) {
+      warn("gyro gap: no GYRO sample since " + fmtTime(*last_gyro_t_) + " at the frame at " +
+           fmtTime(t) + ": coasting on the mean of the last rates");
+      in_gap_ = true;
+    }
+    coastTo(t);
+  }
+  if (filter_.initialized() && !reinit_pending_) {
+    const MekfPrediction pred = filter_.predictAt(t);
+    AttitudePrediction ap;
+    ap.q_ib = pred.q_ib;
+    ap.cov_body = pred.attitudeCov();
+    ap.rate_body = recentMeanRate() - pred.bias;
+    pipeline_->setPrediction(ap);
+  }
+  CObservationStarTracker::Ptr st = pipeline_->process(image, obs.timestamp);
+  if (io.image.isExternallyStored()) io.image.unload();
+  s.has_frame = true;
+  s.mode = st->mode;
+  s.reason = st->reason;
+  s.stars_matched = static_cast<int>(st->stars.size());
+  s.frame_time_s = st->timings.total;
+  if (st->hasAttitude()) {
+    s.fix = true;
+    s.q_fix = st->q_ib;
+    s.cov_fix = st->cov_body;
+    const bool lis = st->mode == StarTrackerMode::kLostInSpace;
+    if (!filter_.initialized() || (reinit_pending_ && lis)) {
+      initializeFrom(*st, t);
+      s.reinitialized = true;
+    } else if (!reinit_pending_) {
+      if (t > filter_.time()) filter_.predictTo(t);
+      const MekfUpdateResult u = update(*st);
+      s.update = u.accepted ? "accepted" : "rejected";
+      s.innovation = u.innovation;
+      s.innovation_cov = u.innovation_cov;
+      s.nis = u.nis;
+      s.nis_dof = u.dof;
+      if (u.accepted) {
+        consecutive_rejections_ = 0;
+      } else {
+        if (!u.reason.empty()) s.reason += (s.reason.empty() ? "" : "; ") + u.reason;
+        if (++consecutive_rejections_ >= opts_.reinit_after_rejections) {
+          warn(std::to_string(consecutive_rejections_) +
+               " star-tracker fixes in a row rejected by the filter at " + fmtTime(t) +
+               ": re-initialising from lost-in-space");
+          if (lis) {
+            initializeFrom(*st, t);
+            s.reinitialized = true;
+          } else {
+            pipeline_->reset();
+            reinit_pending_ = true;
+          }
+        }
+      }
+    }
+  }
+  fillFilterState(s, t);
+  pending_ = std::move(s);
+  pending_obs_ = st;
+}
+
+void Navigator::onTruth(const mrpt::obs::CObservation& obs, double t) {
+  const FrameTruth truth =
+      truthFromObservation(static_cast<const mrpt::obs::CObservation6DFeatures&>(obs));
+  if (!pending_ || pending_->stamp != obs.timestamp) {
+    finishPending();
+    NavStep s;  // a frame slot without a frame: the filter's prediction there
+    s.stamp = obs.timestamp;
+    s.t = t;
+    fillFilterState(s, t);
+    pending_ = std::move(s);
+    pending_obs_.reset();
+  }
+  NavStep& s = *pending_;
+  s.has_truth = true;
+  s.q_true = truth.q_ib;
+  if (s.initialized) {
+    s.error = attitudeError(s.q_ib, s.q_true);
+    s.nees = attitudeNees(s.q_ib, s.P_att, s.q_true);
+  }
+  if (s.fix) s.fix_error = attitudeError(s.q_fix, s.q_true);
+  finishPending();
+}
+
+void Navigator::finishPending() {
+  if (!pending_) return;
+  if (callback_) callback_(*pending_, pending_obs_);
+  if (keep_steps_) steps_.push_back(std::move(*pending_));
+  pending_.reset();
+  pending_obs_.reset();
+}
+
+}  // namespace st
