@@ -12,6 +12,7 @@
 
 #include "common/errors.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
+#include "sensors/mrpt/star_tracker_sensor.hpp"
 
 #if __has_include("sensors/sim/simulated_sensors.hpp")
 #include "sensors/sim/simulated_sensors.hpp"
@@ -28,6 +29,7 @@ void registerStarTrackerClasses() {
     // Manual registration (MRPT-NOTES.md): without it MRPT cannot create the class by name
     // when reading, and CRawlog stops silently at the first such object.
     mrpt::rtti::registerClass(CLASS_ID(CObservationStarTracker));
+    registerStarTrackerSensor();
 #ifdef ST_HAVE_SIM_SENSORS
     registerSimulatedSensors();
 #endif

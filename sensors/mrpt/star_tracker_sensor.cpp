@@ -1,0 +1,324 @@
+#include "sensors/mrpt/star_tracker_sensor.hpp"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/hwdrivers/CCameraSensor.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/system/filesystem.h>
+
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+
+#include "catalog/star_catalog.hpp"
+#include "catalog/star_database.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "common/mrpt_convert.hpp"
+#include "sensors/sim/scenario.hpp"
+#include "sensors/sim/simulated_sensors.hpp"
+
+IMPLEMENTS_GENERIC_SENSOR(CStarTrackerSensor, st)
+
+namespace st {
+
+namespace {
+
+std::string where(const std::string& section, const std::string& key) {
+  // No brackets: MRPT's stacked exception (CGenericSensor::loadConfig wraps ours) takes
+  // the text up to the first ']' for a source location and cuts it off the message.
+  return "section '" + section + "' key '" + key + "'";
+}
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Reads a key only when present so that the defaults stay in one place (PipelineOptions).
+template <typename T, typename Reader>
+bool readIf(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+            const std::string& key, T& value, Reader read) {
+  if (!cfg.keyExists(section, key)) return false;
+  value = read(key);
+  return true;
+}
+
+}  // namespace
+
+void registerStarTrackerSensor() { CStarTrackerSensor::doRegister(); }
+
+CStarTrackerSensor::CStarTrackerSensor() { m_sensorLabel = "STAR_TRACKER"; }
+CStarTrackerSensor::~CStarTrackerSensor() = default;
+
+void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
+                                                   const std::string& section) {
+  section_ = section;
+  auto str = [&](const std::string& k) { return cfg.read_string(section, k, ""); };
+  auto num = [&](const std::string& k) {
+    const std::string v = cfg.read_string(section, k, "");
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || end == v.c_str() || *end != '\0')
+      throw InputError(where(section, k) + ": not a number: '" + v + "'");
+    return d;
+  };
+  auto integer = [&](const std::string& k) {
+    const double d = num(k);
+    if (d != static_cast<int>(d)) throw InputError(where(section, k) + ": not an integer");
+    return static_cast<int>(d);
+  };
+  auto boolean = [&](const std::string& k) {
+    const std::string v = str(k);
+    if (v == "true" || v == "1" || v == "yes") return true;
+    if (v == "false" || v == "0" || v == "no") return false;
+    throw InputError(where(section, k) + ": not a boolean (true/false): '" + v + "'");
+  };
+
+  // --- image source ---
+  source_kind_ = str("image_source");
+  if (source_kind_.empty()) {
+    throw InputError(where(section, "image_source") +
+                     ": missing key (simulated | camera)");
+  }
+  readIf(cfg, section, "image_label", image_label_, str);
+  readIf(cfg, section, "emit_image", emit_image_, boolean);
+  readIf(cfg, section, "camera_file", camera_file_, str);
+  readIf(cfg, section, "camera_file_section", camera_file_section_, str);
+  if (source_kind_ == "simulated") {
+    scenario_file_ = str("scenario_file");
+    if (scenario_file_.empty()) throw InputError(where(section, "scenario_file") + ": missing key");
+    if (!mrpt::system::fileExists(scenario_file_)) {
+      throw InputError(where(section, "scenario_file") + ": no such file '" + scenario_file_ + "'");
+    }
+    auto sim = std::make_unique<CSimulatedStarCamera>();
+    sim->loadConfig(cfg, section);
+    source_ = std::move(sim);
+  } else if (source_kind_ == "camera") {
+    if (camera_file_.empty()) {
+      throw InputError(where(section, "camera_file") +
+                       ": missing key (the calibration is needed with image_source = camera)");
+    }
+    std::string cam_section = section;
+    readIf(cfg, section, "camera_section", cam_section, str);
+    if (!cfg.sectionExists(cam_section)) {
+      throw InputError(where(section, "camera_section") + ": no section [" + cam_section + "]");
+    }
+    auto cam = std::make_unique<mrpt::hwdrivers::CCameraSensor>();
+    cam->loadConfig(cfg, cam_section);
+    source_ = std::move(cam);
+  } else {
+    throw InputError(where(section, "image_source") + ": unknown value '" + source_kind_ +
+                     "' (simulated | camera)");
+  }
+  if (source_) source_->setSensorLabel(image_label_);
+  if (!camera_file_.empty() && !mrpt::system::fileExists(camera_file_)) {
+    throw InputError(where(section, "camera_file") + ": no such file '" + camera_file_ + "'");
+  }
+
+  // --- star database ---
+  readIf(cfg, section, "database_file", database_file_, str);
+  readIf(cfg, section, "catalog_file", catalog_file_, str);
+  readIf(cfg, section, "mag_limit", mag_limit_, num);
+  readIf(cfg, section, "aberration", aberration_, boolean);
+  if (cfg.keyExists(section, "epoch_jyear")) epoch_jyear_ = num("epoch_jyear");
+  if (!database_file_.empty() && !mrpt::system::fileExists(database_file_)) {
+    throw InputError(where(section, "database_file") + ": no such file '" + database_file_ + "'");
+  }
+  if (!catalog_file_.empty() && !mrpt::system::fileExists(catalog_file_)) {
+    throw InputError(where(section, "catalog_file") + ": no such file '" + catalog_file_ + "'");
+  }
+
+  // --- pipeline ---
+  PipelineOptions o;
+  o.sensor_label = m_sensorLabel;
+  readIf(cfg, section, "lis_algorithm", o.lis_algorithm, str);
+  readIf(cfg, section, "identify_solver", o.identify.solver, str);
+  readIf(cfg, section, "solver", o.solver, str);
+  readIf(cfg, section, "gate_sigma", o.gate_sigma, num);
+  readIf(cfg, section, "min_tracked_stars", o.min_tracked_stars, integer);
+  readIf(cfg, section, "max_tracked_stars", o.max_tracked_stars, integer);
+  readIf(cfg, section, "max_failed_frames", o.max_failed_frames, integer);
+  readIf(cfg, section, "frame_to_frame", o.frame_to_frame, boolean);
+  readIf(cfg, section, "loss_probability", o.loss_probability, num);
+  readIf(cfg, section, "consistency_probability", o.consistency_probability, num);
+  readIf(cfg, section, "max_propagation_s", o.max_propagation_s, num);
+  readIf(cfg, section, "accel_sigma", o.accel_sigma, num);
+  readIf(cfg, section, "gyro_sigma", o.gyro_sigma, num);
+  has_exposure_ = readIf(cfg, section, "exposure_s", o.exposure_s, num);
+  readIf(cfg, section, "threshold_sigma", o.detect.threshold_sigma, num);
+  has_gain_ = readIf(cfg, section, "gain_e_per_adu", o.detect.gain_e_per_adu, num);
+  has_read_noise_ = readIf(cfg, section, "read_noise_adu", o.detect.read_noise_adu, num);
+  readIf(cfg, section, "centroider", o.detect.centroider, str);
+  readIf(cfg, section, "max_stars", o.detect.max_stars, integer);
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    throw InputError("section '" + section + "': " + e.what());
+  }
+  std::string err;
+  if (!StarIdentifier::create(o.lis_algorithm, o.identify, &err))
+    throw InputError(where(section, "lis_algorithm") + ": " + err);
+  if (!WahbaSolver::create(o.solver, &err)) throw InputError(where(section, "solver") + ": " + err);
+  if (!WahbaSolver::create(o.identify.solver, &err))
+    throw InputError(where(section, "identify_solver") + ": " + err);
+  opts_ = o;
+}
+
+void CStarTrackerSensor::setPathForExternalImages(const std::string& directory) {
+  if (!mrpt::system::createDirectory(directory))
+    throw InputError(directory + ": cannot create the external images folder");
+  m_path_for_external_images = directory;
+}
+
+void CStarTrackerSensor::initialize() {
+  m_state = ssInitializing;
+  if (!source_) throw InputError("CStarTrackerSensor: initialize() before loadConfig()");
+  const std::string& s = section_;
+  std::optional<Scenario> scenario;
+  if (source_kind_ == "simulated") scenario = Scenario::load(scenario_file_);
+
+  // Camera model: the file, else the simulated scenario's camera.
+  if (!camera_file_.empty()) {
+    try {
+      if (endsWith(camera_file_, ".yaml") || endsWith(camera_file_, ".yml") ||
+          endsWith(camera_file_, ".xml")) {
+        camera_ = CameraModel::loadYaml(camera_file_);
+      } else {
+        camera_ = CameraModel::loadIniFile(camera_file_, camera_file_section_);
+      }
+    } catch (const InputError& e) {
+      throw InputError(where(s, "camera_file") + ": " + e.what());
+    }
+  } else {
+    camera_ = scenario->camera;
+  }
+
+  PipelineOptions o = opts_;
+  o.sensor_label = m_sensorLabel;
+  if (scenario) {  // the detector's noise model must match the simulated sensor
+    if (!has_exposure_) o.exposure_s = scenario->sensor.exposure_s;
+    if (!has_gain_) o.detect.gain_e_per_adu = scenario->sensor.gain();
+    if (!has_read_noise_) o.detect.read_noise_adu = scenario->sensor.read_noise_e / scenario->sensor.gain();
+  }
+
+  // Star database: a file, or built in memory for this camera.
+  try {
+    if (!database_file_.empty()) {
+      db_ = std::make_shared<const StarDatabase>(StarDatabase::load(database_file_));
+    } else {
+      DatabaseParams p{};
+      p.max_pair_angle = 2.0 * camera_.halfDiagonalFov() + deg2rad(0.5);
+      p.mag_limit = mag_limit_;
+      p.epoch_jyear = epoch_jyear_ ? *epoch_jyear_
+                      : scenario   ? scenario->epochJyear()
+                                   : julianYear(mrpt::Clock::now());
+      p.aberration = aberration_;
+      p.double_star_sep = arcsec2rad(10.0);
+      p.max_stars_per_region = 0;
+      p.neighbour_radius = deg2rad(5.0);
+      const std::string cat =
+          catalog_file_.empty() ? StarDatabase::defaultCatalogPath() : catalog_file_;
+      db_ = std::make_shared<const StarDatabase>(StarDatabase::build(loadCatalog(cat), p));
+    }
+    pipeline_ = std::make_unique<StarTrackerPipeline>(*db_, camera_, o);
+  } catch (const InputError& e) {
+    throw InputError("section '" + s + "': " + e.what());
+  }
+
+  source_->initialize();
+  m_state = ssWorking;
+}
+
+bool CStarTrackerSensor::sourceFinished() const {
+  const auto* sim = dynamic_cast<const CSimulatedStarCamera*>(source_.get());
+  return sim && sim->finished();
+}
+
+void CStarTrackerSensor::setPrediction(const AttitudePrediction& prediction) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  prediction_ = prediction;
+}
+
+void CStarTrackerSensor::setPredictor(Predictor predictor) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  predictor_ = std::move(predictor);
+}
+
+void CStarTrackerSensor::setGyroRate(const Vec3& rate_body) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  gyro_rate_ = rate_body;
+}
+
+CObservationStarTracker::Ptr CStarTrackerSensor::lastObservation() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_obs_;
+}
+
+cv::Mat CStarTrackerSensor::lastImage() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_image_;
+}
+
+void CStarTrackerSensor::doProcess() {
+  if (!source_ || !pipeline_) return;
+  source_->doProcess();
+  TListObservations in;
+  source_->getObservations(in);
+  std::vector<mrpt::serialization::CSerializable::Ptr> out;
+  for (auto& [t, obj] : in) {
+    auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obj);
+    if (!img) {  // e.g. the simulated camera's GROUND_TRUTH: pass it on
+      out.push_back(obj);
+      continue;
+    }
+    cv::Mat frame = img->image.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
+    if (frame.channels() == 3) {
+      cv::Mat grey;
+      cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+      frame = grey;
+    }
+    processFrame(*img, frame, out);
+    if (emit_image_) {
+      if (!m_path_for_external_images.empty()) {
+        char name[128];
+        std::snprintf(name, sizeof(name), "%s_%06d.%s", img->sensorLabel.c_str(), image_counter_++,
+                      m_external_images_format.c_str());
+        img->image.saveToFile(m_path_for_external_images + "/" + name);
+        img->image.setExternalStorage(name);
+      }
+      out.insert(out.end() - 1, img);  // the frame before its fix
+    }
+  }
+  if (!out.empty()) appendObservations(out);
+}
+
+void CStarTrackerSensor::processFrame(const mrpt::obs::CObservation& image_obs,
+                                      const cv::Mat& image,
+                                      std::vector<mrpt::serialization::CSerializable::Ptr>& out) {
+  const mrpt::Clock::time_point t = image_obs.timestamp;
+  Predictor predictor;
+  std::optional<AttitudePrediction> pred;
+  std::optional<Vec3> rate;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    predictor = predictor_;
+    pred.swap(prediction_);
+    rate.swap(gyro_rate_);
+  }
+  if (predictor) {  // called without our lock: it may take the caller's
+    if (auto p = predictor(t)) pred = p;
+  }
+  if (pred) pipeline_->setPrediction(*pred);
+  if (rate) pipeline_->setGyroRate(*rate);
+  auto obs = pipeline_->process(image, t);
+  obs->sensorLabel = m_sensorLabel;
+  ++frames_;
+  if (obs->hasAttitude()) ++solved_;
+  if (obs->mode == StarTrackerMode::kTracking) ++tracking_;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    last_obs_ = obs;
+    last_image_ = image.clone();
+  }
+  out.push_back(obs);
+}
+
+}  // namespace st

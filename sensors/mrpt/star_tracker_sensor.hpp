@@ -1,0 +1,140 @@
+/// @file star_tracker_sensor.hpp
+/// `st::CStarTrackerSensor`: the star tracker as an MRPT sensor (CGenericSensor), so that
+/// rawlog-grabber (with the startracker_mrpt plugin) and `startracker live` run it like any
+/// other MRPT sensor. Each doProcess() polls an inner image source (an MRPT CCameraSensor or
+/// the simulated star camera), runs the StarTrackerPipeline on every new frame and emits one
+/// CObservationStarTracker per frame (label = sensorLabel, default STAR_TRACKER), plus the
+/// frame itself (CObservationImage, optional) and whatever else the source emits (the
+/// simulated camera's GROUND_TRUTH).
+///
+/// .ini section (besides CGenericSensor's process_rate [required], sensorLabel, ...):
+///   driver        = CStarTrackerSensor
+///   image_source  = simulated | camera                     (required)
+///     simulated:  scenario_file = path (required), seed, truth_label: the keys of
+///                 CSimulatedStarCamera (sensors/sim/simulated_sensors.hpp), read from this
+///                 same section. Camera, exposure and detector noise default to the scenario.
+///     camera:     camera_section = SECTION (default: this section) with the keys of
+///                 mrpt::hwdrivers::CCameraSensor (grabber_type = opencv | ffmpeg |
+///                 image_dir | ..., cv_camera_index, ffmpeg_url, image_dir_url, ...).
+///   image_label   = CAMERA        label of the emitted frames
+///   emit_image    = true          also emit the frames (external PNGs when the grabber sets
+///                                 an external images path, as rawlog-grabber does)
+///   camera_file   = path          CameraModel: .yaml/.yml/.xml (OpenCV) or an .ini with a
+///                                 TCamera section `camera_file_section` (default "camera").
+///                                 Required for image_source = camera.
+///   database_file = path          a StarDatabase file; if empty one is built in memory from
+///   catalog_file  = path          (default StarDatabase::defaultCatalogPath()) with
+///   mag_limit = 6.5, epoch_jyear (default: the scenario's epoch, else required),
+///   aberration = true
+///   Pipeline (PipelineOptions, same names): lis_algorithm, identify_solver, solver,
+///   gate_sigma, min_tracked_stars, max_tracked_stars, max_failed_frames, frame_to_frame,
+///   exposure_s, loss_probability, consistency_probability, max_propagation_s, accel_sigma,
+///   gyro_sigma; detector: threshold_sigma, gain_e_per_adu, read_noise_adu, centroider,
+///   max_stars.
+///   Relative paths are taken as they are (relative to the working directory).
+///
+/// Errors: a missing or bad key throws st::InputError ("section 'S' key 'K': ..."), from
+/// loadConfig() (cheap checks) or initialize() (files, algorithm names). Note that
+/// CGenericSensor::loadConfig wraps exceptions in MRPT's stacked exception (the message is
+/// kept, the type is not).
+///
+/// Threads: doProcess() runs in the grabber's thread; setPrediction(), setPredictor(),
+/// setGyroRate() and the statistics may be called from any other thread.
+#pragma once
+#include <mrpt/core/Clock.h>
+#include <mrpt/hwdrivers/CGenericSensor.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "sensors/camera/camera_model.hpp"
+#include "sensors/mrpt/star_tracker_pipeline.hpp"
+
+namespace st {
+
+class StarDatabase;
+
+class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
+  DEFINE_GENERIC_SENSOR(CStarTrackerSensor)
+ public:
+  /// Called from the sensor's thread with a frame's timestamp before the frame is processed;
+  /// returns the prediction for that time, or nothing (then frame-to-frame / lost-in-space).
+  using Predictor =
+      std::function<std::optional<AttitudePrediction>(mrpt::Clock::time_point frame_time)>;
+
+  CStarTrackerSensor();
+  ~CStarTrackerSensor() override;
+
+  void initialize() override;
+  void doProcess() override;
+  void setPathForExternalImages(const std::string& directory) override;
+
+  /// An external prediction (e.g. the filter's) for the next processed frame only.
+  void setPrediction(const AttitudePrediction& prediction);
+  /// A prediction source asked at each frame's time (takes precedence over setPrediction);
+  /// an empty function removes it. The function runs in the sensor's thread.
+  void setPredictor(Predictor predictor);
+  /// Gyro body rate for the frame-to-frame mode, for the next processed frame only.
+  void setGyroRate(const Vec3& rate_body);
+
+  /// Statistics (thread-safe).
+  int framesProcessed() const { return frames_; }
+  int framesSolved() const { return solved_; }
+  int framesTracking() const { return tracking_; }
+  /// The last star-tracker observation and frame (nullptr before the first frame).
+  CObservationStarTracker::Ptr lastObservation() const;
+  cv::Mat lastImage() const;
+
+  /// Available after initialize().
+  const CameraModel& camera() const { return camera_; }
+  const StarDatabase* database() const { return db_.get(); }
+  /// True when the inner source has no more frames (a finished simulated scenario).
+  bool sourceFinished() const;
+
+ protected:
+  void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
+                                 const std::string& section) override;
+
+ private:
+  void processFrame(const mrpt::obs::CObservation& image_obs, const cv::Mat& image,
+                    std::vector<mrpt::serialization::CSerializable::Ptr>& out);
+
+  // configuration
+  std::string section_;
+  std::string source_kind_;  // "simulated" | "camera"
+  std::string image_label_ = "CAMERA";
+  bool emit_image_ = true;
+  std::string camera_file_, camera_file_section_ = "camera";
+  std::string database_file_, catalog_file_;
+  double mag_limit_ = 6.5;
+  std::optional<double> epoch_jyear_;
+  bool aberration_ = true;
+  PipelineOptions opts_;
+  // which pipeline/detector keys the .ini set (the rest default to the scenario's values)
+  bool has_exposure_ = false, has_gain_ = false, has_read_noise_ = false;
+  std::string scenario_file_;
+
+  // runtime
+  std::unique_ptr<mrpt::hwdrivers::CGenericSensor> source_;
+  std::shared_ptr<const StarDatabase> db_;
+  CameraModel camera_;
+  std::unique_ptr<StarTrackerPipeline> pipeline_;
+  int image_counter_ = 0;
+
+  mutable std::mutex mutex_;  // guards everything below
+  std::optional<AttitudePrediction> prediction_;
+  std::optional<Vec3> gyro_rate_;
+  Predictor predictor_;
+  CObservationStarTracker::Ptr last_obs_;
+  cv::Mat last_image_;
+  std::atomic<int> frames_{0}, solved_{0}, tracking_{0};
+};
+
+/// Registers CStarTrackerSensor with MRPT's sensor factory (idempotent).
+void registerStarTrackerSensor();
+
+}  // namespace st
