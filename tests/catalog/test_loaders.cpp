@@ -118,7 +118,7 @@ TEST(HipparcosLoader, BadInputNamesFileAndLine) {
   expectInputError([&] { loadHipparcos(path); }, {path, "no star"});
 }
 
-std::string bsc5Path() { return test::sharedDataDir() + "/catalogs/bsc5"; }
+std::string bsc5Path() { return test::bsc5Path(); }
 
 TEST(Bsc5Loader, RealFileSiriusAndPlaceholders) {
   const StarCatalog cat = loadCatalog(bsc5Path());

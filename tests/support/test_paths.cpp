@@ -19,7 +19,9 @@ std::string sharedDataDir() {
 
 std::string hipparcosSubsetPath() { return repoDir() + "/catalog/data/hip_main_v6.6.dat.gz"; }
 
-std::string tetra3ImageDir() { return sharedDataDir() + "/images/tetra3"; }
+std::string tetra3ImageDir() { return repoDir() + "/tests/data/tetra3"; }
+
+std::string bsc5Path() { return repoDir() + "/catalog/data/bsc5"; }
 
 std::string makeTempDir(const std::string& tag) {
   namespace fs = std::filesystem;

@@ -7,12 +7,15 @@ namespace st::test {
 
 /// Repository root (absolute).
 std::string repoDir();
-/// ../shared/data (real catalogs and images); override with env ST_SHARED_DATA_DIR.
+/// ../shared/data (the workplace's real data; only for data too large to commit, e.g. a full
+/// Hipparcos file); override with env ST_SHARED_DATA_DIR. Tests must skip when it is absent.
 std::string sharedDataDir();
 /// The committed Hipparcos subset in catalog/data/.
 std::string hipparcosSubsetPath();
-/// The eight real tetra3 frames.
+/// The eight real tetra3 frames (committed in tests/data/tetra3).
 std::string tetra3ImageDir();
+/// The Yale Bright Star Catalogue binary (committed in catalog/data).
+std::string bsc5Path();
 /// A fresh empty temporary directory for one test (removed by the OS, not by the test).
 std::string makeTempDir(const std::string& tag);
 /// Path of the built `startracker` executable (for end-to-end tests).
