@@ -1,0 +1,76 @@
+// `startracker montecarlo EXPERIMENT`: the seed papers' Monte Carlo experiments (star counts,
+// FOV selection, lost-in-space robustness, attitude error vs stars, timing) over random
+// attitudes, with deterministic per-trial seeds so that `--shard i/N` pieces run anywhere and
+// `startracker montecarlo merge DIR...` rebuilds the same tables. See app/montecarlo/.
+#include <memory>
+
+#include "app/command.hpp"
+#include "app/montecarlo/experiment.hpp"
+#include "app/montecarlo/mc_options.hpp"
+#include "app/montecarlo/runner.hpp"
+#include "common/errors.hpp"
+
+namespace st::app {
+
+void addMontecarloCommand(CLI::App& root, CommandRun& run) {
+  auto* cmd = root.add_subcommand(
+      "montecarlo",
+      "Monte Carlo experiments over random attitudes -> Markdown/CSV tables and PNG plots.\n"
+      "Experiments:\n" + mc::Experiment::help() +
+          "  merge DIR...: combine the shard files of `--shard i/N` runs into one report");
+  auto o = std::make_shared<mc::McOptions>();
+  auto dirs = std::make_shared<std::vector<std::string>>();
+  auto shard = std::make_shared<std::string>("0/1");
+  auto size = std::make_shared<std::vector<int>>();
+  auto no_plots = std::make_shared<bool>(false);
+  auto quiet = std::make_shared<bool>(false);
+  cmd->add_option("experiment", o->experiment, "Experiment name, or 'merge'")->required();
+  cmd->add_option("dirs", *dirs, "merge: directories with shard files");
+  cmd->add_option("--runs,-n", o->runs, "Trials (random attitudes)")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Base seed; trial k uses a hash of (seed, k)")
+      ->capture_default_str();
+  cmd->add_option("--threads,-j", o->threads, "Worker threads (0 = all cores); results do not "
+                  "depend on it")->capture_default_str();
+  cmd->add_option("--shard", *shard, "Run only trials k with k % N == i (i/N)")
+      ->capture_default_str();
+  cmd->add_option("--out,-o", o->out_dir, "Output directory")->capture_default_str();
+  cmd->add_option("--fov-deg", o->fov_deg, "Horizontal FOV of the simulated camera [deg]")
+      ->capture_default_str();
+  cmd->add_option("--size", *size, "Image size W H of the simulated camera (default 1024 1024)")
+      ->expected(2);
+  cmd->add_option("--mag-limit", o->mag_limit, "Faintest V magnitude seen by the camera")
+      ->capture_default_str();
+  cmd->add_option("--mags", o->mags, "Magnitude limits (star-count, fov-selection)")
+      ->delimiter(',');
+  cmd->add_option("--fovs", o->fovs_deg, "Square FOV sizes [deg] (fov-selection)")->delimiter(',');
+  cmd->add_option("--algorithms", o->algorithms, "Identification algorithms (default: all for "
+                  "lis-robustness, pyramid for timing)")->delimiter(',');
+  cmd->add_option("--solvers", o->solvers, "Wahba solvers (default: all)")->delimiter(',');
+  cmd->add_option("--noise-px", o->noise_px, "Centroid noise 1-sigma per axis [px]")
+      ->capture_default_str();
+  cmd->add_option("--merge-arcsec", o->merge_arcsec, "Double-star merge distance [arcsec]")
+      ->capture_default_str();
+  cmd->add_option("--catalog", o->catalog, "Star catalog (default: the committed Hipparcos "
+                  "subset)");
+  cmd->add_flag("--no-plots", *no_plots, "Write tables only (no gnuplot)");
+  cmd->add_option("--gnuplot", o->gnuplot, "gnuplot program (default $ST_GNUPLOT or gnuplot)");
+  cmd->add_flag("--quiet,-q", *quiet, "No progress bar");
+  cmd->callback([=, &run] {
+    run = [=] {
+      mc::McOptions opts = *o;
+      opts.plots = !*no_plots;
+      opts.progress = !*quiet;
+      if (size->size() == 2) {
+        opts.width = (*size)[0];
+        opts.height = (*size)[1];
+      }
+      mc::parseShard(*shard, opts.shard_index, opts.shard_count);
+      if (opts.experiment == "merge") return mc::mergeRuns(*dirs, opts);
+      if (!dirs->empty())
+        throw InputError("unexpected argument '" + dirs->front() + "' after the experiment name");
+      return mc::runExperiment(opts);
+    };
+  });
+}
+
+}  // namespace st::app
