@@ -7,6 +7,7 @@ void addCameraCommand(CLI::App& root, CommandRun& run);
 void addCatalogCommand(CLI::App& root, CommandRun& run);
 void addLiveCommand(CLI::App& root, CommandRun& run);
 void addMontecarloCommand(CLI::App& root, CommandRun& run);
+void addReplayCommand(CLI::App& root, CommandRun& run);
 void addSimulateCommand(CLI::App& root, CommandRun& run);
 void addSolveCommand(CLI::App& root, CommandRun& run);
 
@@ -15,6 +16,7 @@ void addAllCommands(CLI::App& root, CommandRun& run) {
   addCatalogCommand(root, run);
   addLiveCommand(root, run);
   addMontecarloCommand(root, run);
+  addReplayCommand(root, run);
   addSimulateCommand(root, run);
   addSolveCommand(root, run);
 }

@@ -1,0 +1,303 @@
+// `startracker replay RAWLOG`: the navigator (pipeline + MEKF) over a recorded rawlog, with a
+// summary, the trajectory CSV, an output rawlog with STAR_TRACKER observations and plots.
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/system/datetime.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "app/command.hpp"
+#include "app/plot.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "common/mrpt_convert.hpp"
+#include "common/progress.hpp"
+#include "fusion/consistency.hpp"
+#include "fusion/navigator.hpp"
+#include "sensors/mrpt/rawlog_io.hpp"
+
+namespace st::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReplayOpts {
+  std::string rawlog, config, output, csv, plots;
+  bool realtime = false, quiet = false;
+};
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t i = std::min(v.size() - 1, std::size_t(std::ceil(p * double(v.size())) - 1));
+  return v[i];
+}
+double rms(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x * x;
+  return v.empty() ? 0 : std::sqrt(s / double(v.size()));
+}
+
+/// External images of the output rawlog: `<out stem>_Images` points to the input's folder.
+void linkImages(const std::string& input, const std::string& output) {
+  const fs::path in_dir = fs::absolute(rawlogImagesDir(input));
+  const fs::path out_dir = fs::absolute(rawlogImagesDir(output));
+  if (!fs::is_directory(in_dir)) return;  // inline images
+  std::error_code ec;
+  if (fs::equivalent(in_dir, out_dir, ec)) return;
+  if (fs::is_symlink(out_dir)) fs::remove(out_dir, ec);
+  if (fs::exists(out_dir)) {
+    std::fprintf(stderr, "[replay] warning: %s exists; external images are read from there\n",
+                 out_dir.c_str());
+    return;
+  }
+  fs::create_directory_symlink(in_dir, out_dir, ec);
+  if (ec) {
+    throw InputError(out_dir.string() + ": cannot link the input images (" + ec.message() + ")");
+  }
+}
+
+Plot makePlot(const std::string& title, const std::string& x, const std::string& y) {
+  Plot p;
+  p.title = title;
+  p.xlabel = x;
+  p.ylabel = y;
+  return p;
+}
+
+void plots(const std::vector<NavStep>& steps, const std::string& dir) {
+  fs::create_directories(dir);
+  Plot err = makePlot("Attitude error (filter - truth) with +-3 sigma", "time [s]", "error [arcsec]");
+  const char* axes[3] = {"x", "y", "z (roll)"};
+  const char* colors[3] = {"#1f77b4", "#2ca02c", "#d62728"};
+  for (int i = 0; i < 3; ++i) {
+    PlotSeries e(std::string("error ") + axes[i], PlotStyle::Lines), s3("", PlotStyle::Lines),
+        s3n("", PlotStyle::Lines);
+    e.color = s3.color = s3n.color = colors[i];
+    s3.dashed = s3n.dashed = true;
+    s3.title = std::string("+-3 sigma ") + axes[i];
+    for (const NavStep& s : steps) {
+      if (!s.has_truth || !s.initialized) continue;
+      e.x.push_back(s.t);
+      e.y.push_back(rad2arcsec(s.error.rotvec_body[i]));
+      s3.x.push_back(s.t);
+      s3.y.push_back(3 * rad2arcsec(s.sigma_att[i]));
+      s3n.x.push_back(s.t);
+      s3n.y.push_back(-3 * rad2arcsec(s.sigma_att[i]));
+    }
+    err.series.push_back(e);
+    err.series.push_back(s3);
+    err.series.push_back(s3n);
+  }
+  Plot nees = makePlot("Attitude NEES (3 dof) with the 95 % chi-square band", "time [s]", "NEES");
+  PlotSeries n("NEES", PlotStyle::Points);
+  for (const NavStep& s : steps) {
+    if (!s.has_truth || !s.initialized) continue;
+    n.x.push_back(s.t);
+    n.y.push_back(s.nees);
+  }
+  nees.series.push_back(n);
+  nees.ref_lines = {{chiSquareQuantile(0.025, 3), "chi2(3) 2.5 %"},
+                    {chiSquareQuantile(0.975, 3), "chi2(3) 97.5 %"}};
+  nees.log_y = true;
+  Plot bias = makePlot("Gyro bias estimate", "time [s]", "bias [deg/h]");
+  for (int i = 0; i < 3; ++i) {
+    PlotSeries b(std::string("bias ") + "xyz"[i], PlotStyle::Lines);
+    for (const NavStep& s : steps) {
+      if (!s.initialized) continue;
+      b.x.push_back(s.t);
+      b.y.push_back(s.bias[i] * kDegPerRad * 3600.0);
+    }
+    bias.series.push_back(b);
+  }
+  Plot stars = makePlot("Stars matched per frame", "time [s]", "stars");
+  Plot ftime = makePlot("Time per frame", "time [s]", "time [ms]");
+  PlotSeries ns("stars", PlotStyle::Steps), ft("pipeline", PlotStyle::Points);
+  for (const NavStep& s : steps) {
+    if (!s.has_frame) continue;
+    ns.x.push_back(s.t);
+    ns.y.push_back(s.stars_matched);
+    ft.x.push_back(s.t);
+    ft.y.push_back(s.frame_time_s * 1e3);
+  }
+  stars.series.push_back(ns);
+  ftime.series.push_back(ft);
+  const std::pair<const Plot*, const char*> all[] = {{&err, "error"}, {&nees, "nees"},
+                                                     {&bias, "bias"}, {&stars, "stars"},
+                                                     {&ftime, "frame_time"}};
+  for (const auto& [p, name] : all) {
+    const std::string png = (fs::path(dir) / (std::string(name) + ".png")).string();
+    try {
+      savePlot(*p, png);
+    } catch (const ProcessingError& e) {
+      std::fprintf(stderr, "[replay] plot %s not drawn: %s\n", png.c_str(), e.what());
+      return;
+    }
+  }
+}
+
+int runReplay(const ReplayOpts& o) {
+  if (!fs::is_regular_file(o.rawlog)) throw InputError(o.rawlog + ": rawlog not found");
+  TrackerConfig cfg;
+  if (!o.config.empty()) cfg = TrackerConfig::load(o.config);
+
+  // All observations first (external images stay on disk until a frame needs them).
+  const std::vector<mrpt::obs::CObservation::Ptr> obs = readRawlog(o.rawlog);
+  if (obs.empty()) throw InputError(o.rawlog + ": no observations");
+  std::optional<CameraModel> camera = cfg.camera;
+  for (const auto& ob : obs) {
+    if (camera) break;
+    if (ob->sensorLabel != cfg.nav.camera_label) continue;
+    if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(ob))
+      camera = CameraModel::fromTCamera(img->cameraParams);
+  }
+  if (!camera) {
+    throw InputError(o.rawlog + ": no " + cfg.nav.camera_label +
+                     " (CObservationImage) observation: nothing to replay");
+  }
+  const double epoch = julianYear(obs.front()->timestamp);
+  const auto t_db = std::chrono::steady_clock::now();
+  const StarDatabase db = makeDatabase(cfg.database, *camera, epoch);
+  const double db_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_db).count();
+
+  std::unique_ptr<RawlogWriter> writer;
+  if (!o.output.empty()) {
+    if (fs::exists(o.output) && fs::equivalent(o.output, o.rawlog))
+      throw InputError(o.output + ": the output rawlog must differ from the input");
+    const fs::path parent = fs::path(o.output).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) fs::create_directories(parent, ec);
+    writer = std::make_unique<RawlogWriter>(o.output);
+    linkImages(o.rawlog, o.output);
+  }
+  std::size_t star_tracker_written = 0;
+  Navigator nav(db, *camera, cfg.nav);
+  nav.setStepCallback([&](const NavStep&, const CObservationStarTracker::Ptr& st) {
+    if (writer && st) {
+      writer->write(*st);
+      ++star_tracker_written;
+    }
+  });
+
+  ProgressBar bar("replay", obs.size(), !o.quiet);
+  const auto wall0 = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    if (o.realtime) {
+      const double dt = mrpt::system::timeDifference(obs.front()->timestamp, obs[i]->timestamp);
+      std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                std::chrono::duration<double>(std::max(0.0, dt))));
+    }
+    if (writer) writer->write(*obs[i]);
+    nav.push(obs[i]);
+    bar.update(i + 1);
+  }
+  nav.flush();
+  bar.finish();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (writer) writer->close();
+
+  for (const auto& w : nav.warnings()) std::fprintf(stderr, "[replay] warning: %s\n", w.c_str());
+  if (nav.warningCount() > int(nav.warnings().size()))
+    std::fprintf(stderr, "[replay] ... %d warnings in all\n", nav.warningCount());
+
+  // ---- summary ----
+  const auto& steps = nav.steps();
+  int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
+  double frame_time = 0;
+  std::vector<double> cross, roll, nees, fix_err, filt_err;
+  for (const NavStep& s : steps) {
+    if (s.has_frame) {
+      ++frames;
+      frame_time += s.frame_time_s;
+      if (s.fix) ++solved;
+      if (s.mode == StarTrackerMode::kLostInSpace) ++lis;
+      if (s.mode == StarTrackerMode::kTracking) ++tracking;
+      if (s.update == "rejected") ++rejected;
+    }
+    if (s.has_truth && s.initialized) {
+      cross.push_back(rad2arcsec(s.error.cross_boresight));
+      roll.push_back(std::abs(rad2arcsec(s.error.roll)));
+      nees.push_back(s.nees);
+      if (s.fix) {
+        fix_err.push_back(rad2arcsec(s.fix_error.total));
+        filt_err.push_back(rad2arcsec(s.error.total));
+      }
+    }
+  }
+  std::printf("%s: %zu observations, camera %s\n", o.rawlog.c_str(), obs.size(),
+              camera->describe().c_str());
+  std::printf("database: %zu stars (%s, %.1f s)\n", db.stars().size(),
+              cfg.database.path.empty() ? "built in memory" : cfg.database.path.c_str(), db_s);
+  const double pct = frames ? 100.0 / frames : 0.0;
+  std::printf("frames: %d, solved %.1f %%, lost-in-space %d, tracking %.1f %%, rejected by the "
+              "filter %d, re-initialisations %d\n",
+              frames, solved * pct, lis, tracking * pct, rejected, nav.reinitializations());
+  std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
+              frames ? 1e3 * frame_time / frames : 0.0, frames / std::max(wall_s, 1e-9));
+  if (!nees.empty()) {
+    const ChiSquareBand band = averagedChiSquareBand(3, int(nees.size()));
+    double mean_nees = 0;
+    for (double v : nees) mean_nees += v;
+    mean_nees /= double(nees.size());
+    std::printf("attitude error vs GROUND_TRUTH (%zu steps) [arcsec]:\n", nees.size());
+    std::printf("  cross-boresight  RMS %8.2f  95 %% %8.2f  max %8.2f\n", rms(cross),
+                percentile(cross, 0.95), *std::max_element(cross.begin(), cross.end()));
+    std::printf("  roll             RMS %8.2f  95 %% %8.2f  max %8.2f\n", rms(roll),
+                percentile(roll, 0.95), *std::max_element(roll.begin(), roll.end()));
+    if (!fix_err.empty()) {
+      std::printf("  total, frames with a fix: filter RMS %.2f, raw fixes RMS %.2f\n",
+                  rms(filt_err), rms(fix_err));
+    }
+    std::printf("  mean NEES %.3f (3 dof; 95 %% band for independent steps [%.3f, %.3f]: %s)\n",
+                mean_nees, band.lo, band.hi, band.contains(mean_nees) ? "inside" : "outside");
+  }
+
+  if (!o.csv.empty()) {
+    std::ofstream f(o.csv);
+    if (!f) throw InputError(o.csv + ": cannot write the CSV");
+    f << navStepCsvHeader() << '\n';
+    for (const NavStep& s : steps) {
+      if (s.has_frame) f << navStepCsvRow(s) << '\n';
+    }
+    std::printf("csv: %s (%d rows)\n", o.csv.c_str(), frames);
+  }
+  if (writer) {
+    std::printf("rawlog: %s (%zu observations, %zu STAR_TRACKER)\n", o.output.c_str(),
+                writer->count(), star_tracker_written);
+  }
+  if (!o.plots.empty()) {
+    plots(steps, o.plots);
+    std::printf("plots: %s/{error,nees,bias,stars,frame_time}.png\n", o.plots.c_str());
+  }
+  return solved > 0 ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
+void addReplayCommand(CLI::App& root, CommandRun& run) {
+  auto* cmd = root.add_subcommand(
+      "replay",
+      "Run the star tracker + attitude filter over a rawlog (CAMERA, GYRO, optional "
+      "GROUND_TRUTH): summary, trajectory CSV, output rawlog with STAR_TRACKER, plots");
+  auto o = std::make_shared<ReplayOpts>();
+  cmd->add_option("rawlog", o->rawlog, "Input rawlog")->required();
+  cmd->add_option("--config", o->config,
+                  "tracker.ini: [pipeline] [filter] [navigator] [database] [camera] (see "
+                  "fusion/navigator.hpp)");
+  cmd->add_option("-o,--output", o->output, "Output rawlog: the input + STAR_TRACKER");
+  cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
+  cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");
+  cmd->add_flag("--realtime", o->realtime, "Replay at the recorded speed");
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+  cmd->callback([o, &run] { run = [o] { return runReplay(*o); }; });
+}
+
+}  // namespace st::app
