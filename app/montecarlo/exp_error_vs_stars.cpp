@@ -156,8 +156,13 @@ class ErrorVsStars : public Experiment {
     pn.log_x = true;
     pn.log_y = true;
     pn.ref_lines.push_back({3.0, "3"});
-    PlotSeries pred_c{"predicted (covariance, " + o.solvers.front() + ")", PlotStyle::Lines},
-        pred_r{"predicted (covariance, " + o.solvers.front() + ")", PlotStyle::Lines},
+    // The prediction line: the default solver's covariance when it ran (TRIAD's differs).
+    const std::string pred_solver =
+        std::count(o.solvers.begin(), o.solvers.end(), WahbaSolver::defaultName())
+            ? WahbaSolver::defaultName()
+            : o.solvers.front();
+    PlotSeries pred_c{"predicted (covariance, " + pred_solver + ")", PlotStyle::Lines},
+        pred_r{"predicted (covariance, " + pred_solver + ")", PlotStyle::Lines},
         rule{"seed 003: sqrt(2) sigma_star / sqrt(N)", PlotStyle::Lines};
     pred_c.color = pred_r.color = "#000000";
     rule.color = "#808080";
@@ -188,7 +193,7 @@ class ErrorVsStars : public Experiment {
         sr[s].y.push_back(rr);
         sn[s].x.push_back(n);
         sn[s].y.push_back(mean(a.ne));
-        if (s == o.solvers.front()) {
+        if (s == pred_solver) {
           pred_c.x.push_back(n);
           pred_c.y.push_back(pc_);
           pred_r.x.push_back(n);

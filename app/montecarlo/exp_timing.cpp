@@ -191,7 +191,18 @@ class Timing : public Experiment {
     tab.table.columns = {"source", "algorithm", "n_obs", "frames", "solved_%", "detect_ms",
                          "pattern_ms", "verify_ms", "identify_ms", "identify_ms_p95",
                          "solve_ms", "candidates_mean"};
-    std::map<std::string, PlotSeries> stage_series, cand_series;
+    // Plots: the stages of the first algorithm on rendered images; identify time and
+    // candidates per algorithm on simulated centroids (one series each keeps them readable).
+    const std::string first = o.algorithms.front();
+    std::map<std::string, PlotSeries> stage_series, id_series, cand_series;
+    auto point = [](std::map<std::string, PlotSeries>& m, const std::string& title, double x,
+                    double y) {
+      PlotSeries& s = m[title];
+      s.title = title;
+      s.style = PlotStyle::LinesPoints;
+      s.x.push_back(x);
+      s.y.push_back(y);
+    };
     for (const auto& [key, a] : acc) {
       const auto& [src, alg, n] = key;
       tab.table.rows.push_back({src, alg, std::to_string(n), std::to_string(a.n),
@@ -199,42 +210,41 @@ class Timing : public Experiment {
                                 med(a.pat), med(a.ver), med(a.id), fmt(quantile(a.id, 0.95), 4),
                                 med(a.slv), fmt(mean(a.att), 5)});
       if (a.n < 5) continue;  // too few frames for a stable median in the plots
-      const std::string tag = src + " " + alg;
-      auto add = [&](const std::string& stage, const std::vector<double>& v) {
-        if (v.empty()) return;
-        PlotSeries& s = stage_series[tag + ": " + stage];
-        s.title = tag + ": " + stage;
-        s.style = PlotStyle::LinesPoints;
-        s.x.push_back(n);
-        s.y.push_back(quantile(v, 0.5));
-      };
-      add("identify", a.id);
-      add("pattern", a.pat);
-      add("verify", a.ver);
-      add("solve", a.slv);
-      if (src == "image") add("detect", a.det);
-      PlotSeries& c = cand_series[tag];
-      c.title = tag;
-      c.style = PlotStyle::LinesPoints;
-      c.x.push_back(n);
-      c.y.push_back(mean(a.att));
+      if (src == "image" && alg == first) {
+        if (!a.det.empty()) point(stage_series, "detect", n, quantile(a.det, 0.5));
+        point(stage_series, "pattern search", n, quantile(a.pat, 0.5));
+        point(stage_series, "verification", n, quantile(a.ver, 0.5));
+        if (!a.slv.empty()) point(stage_series, "solve (" + o.solvers.front() + ")", n, quantile(a.slv, 0.5));
+      }
+      if (src == "centroids") {
+        point(id_series, alg, n, quantile(a.id, 0.5));
+        point(cand_series, alg, n, mean(a.att));
+      }
     }
     rep.tables.push_back(tab);
     Plot pt;
-    pt.title = "Median time per stage vs observations (" + fmt(o.fov_deg, 4) + " deg FOV)";
-    pt.xlabel = "observations in the frame";
+    pt.title = "Median time per stage, " + first + ", rendered " + fmt(o.fov_deg, 4) + " deg frames";
+    pt.xlabel = "detected stars in the frame";
     pt.ylabel = "time [ms]";
     pt.log_y = true;
-    pt.key = "outside right top";
-    pt.width_px = 1000;
+    pt.key = "bottom right";
     for (auto& [k, s] : stage_series) pt.series.push_back(s);
+    Plot pi;
+    pi.title = "Median identification time (pattern + verification), simulated centroids";
+    pi.xlabel = "observations (false stars included)";
+    pi.ylabel = "time [ms]";
+    pi.log_y = true;
+    pi.key = "top left";
+    for (auto& [k, s] : id_series) pi.series.push_back(s);
     Plot pc;
-    pc.title = "Candidate attitudes examined vs observations";
-    pc.xlabel = "observations in the frame";
+    pc.title = "Candidate attitudes examined vs observations, simulated centroids";
+    pc.xlabel = "observations (false stars included)";
     pc.ylabel = "mean candidates examined";
     pc.log_y = true;
+    pc.key = "top left";
     for (auto& [k, s] : cand_series) pc.series.push_back(s);
     rep.plots.push_back({"stages", pt});
+    rep.plots.push_back({"identify", pi});
     rep.plots.push_back({"candidates", pc});
     return rep;
   }
