@@ -1,10 +1,12 @@
 #include "sensors/sim/simulated_sensors.hpp"
 
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
 
 #include "common/errors.hpp"
@@ -24,6 +26,14 @@ std::string requireScenarioFile(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section) {
   const std::string f = cfg.read_string(section, "scenario_file", "");
   if (f.empty()) throw InputError("[" + section + "]: missing key 'scenario_file'");
+  // A relative path that is not found from the working directory is taken relative to the
+  // folder of the .ini file holding the section (rawlog-grabber runs from anywhere).
+  namespace fs = std::filesystem;
+  if (fs::path(f).is_relative() && !fs::exists(f))
+    if (const auto* file = dynamic_cast<const mrpt::config::CConfigFile*>(&cfg)) {
+      const fs::path alt = fs::path(file->getAssociatedFile()).parent_path() / f;
+      if (fs::exists(alt)) return alt.string();
+    }
   return f;
 }
 

@@ -10,7 +10,8 @@
 ///
 /// .ini section (besides CGenericSensor's process_rate, sensorLabel, ...):
 ///   driver = CSimulatedStarCamera | CSimulatedGyro
-///   scenario_file = path/to/scenario.ini   (required; relative to the working directory)
+///   scenario_file = path/to/scenario.ini   (required; relative to the working directory,
+///                                           else to the folder of the .ini file)
 ///   seed = N                                (default: the scenario's seed)
 ///   truth_label = GROUND_TRUTH              (camera only: also emit the truth per frame
 ///                                            with this label; empty = no truth)
