@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds (Release) and runs the main job on the embedded default.
+# Installs dependencies, builds (Release) and runs the main job: the star tracker + attitude
+# filter replayed over the committed slewing sample rawlog (summary on stdout, trajectory CSV,
+# output rawlog with STAR_TRACKER observations, PNG plots in out/replay/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)" --target startracker
-./build/app/startracker camera --fov-deg 11.4 --size 1024 768
+mkdir -p out
+./build/app/startracker replay rawlogs/slew_2dps.rawlog --plots out/replay --csv out/replay.csv \
+  -o out/replay.rawlog
