@@ -20,7 +20,7 @@ const std::vector<Entry>& registry() {
       {"fov-selection", "P(N < 3), P(N < 4) vs square FOV size and magnitude limit; smallest FOV with P < 0.01 (seed 002 eq. 14)", makeFovSelection},
       {"lis-robustness", "lost-in-space success and false-ID rates per error situation (false, dropped, displaced stars, noise), per algorithm (seed 003 Tables 2-3)", makeLisRobustness},
       {"error-vs-stars", "attitude error (cross-boresight, roll) vs number of stars against the covariance prediction, per Wahba solver (seeds 000 Fig. 12, 003 Fig. 18)", makeErrorVsStars},
-      {"timing", "time per frame per stage (pattern search, verification, solve) and candidates examined vs star count (seed 000 Figs. 10-11)", makeTiming},
+      {"timing", "time per frame per stage (detection on rendered images, pattern search, verification, solve) and candidates examined vs star count (seed 000 Figs. 10-11)", makeTiming},
   };
   return table;
 }
