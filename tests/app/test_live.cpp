@@ -1,0 +1,197 @@
+// `startracker live`: 30 s on the simulated sensors of rawlogs/live_sim.ini, stopped with
+// SIGINT, must exit 0 and leave a rawlog holding every observation its summary counted; bad
+// configurations exit 2 naming the section and key; a sensor that fails to start is named
+// and the others keep recording.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <mrpt/obs/CObservation6DFeatures.h>
+#include <mrpt/obs/CObservationImage.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include "common/attitude.hpp"
+#include "sensors/mrpt/observation_star_tracker.hpp"
+#include "sensors/mrpt/rawlog_io.hpp"
+#include "sensors/sim/sim_observations.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace st {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string copyConfig(const std::string& dir) {
+  const std::string dst = dir + "/live_sim.ini";
+  fs::copy_file(test::repoDir() + "/rawlogs/live_sim.ini", dst,
+                fs::copy_options::overwrite_existing);
+  return dst;
+}
+
+struct Summary {
+  std::string rawlog;
+  std::size_t total = 0;
+  std::map<std::string, std::size_t> per_label;
+  int frames = -1, solved = -1, tracking = -1;
+};
+
+Summary parseSummary(const std::string& out) {
+  Summary s;
+  std::smatch m;
+  if (std::regex_search(out, m, std::regex(R"(rawlog: (.+), (\d+) observations)"))) {
+    s.rawlog = m[1];
+    s.total = std::stoul(m[2]);
+  }
+  std::istringstream in(out);
+  std::string line;
+  const std::regex label(R"(^  (\S+)\s+(\d+)$)");
+  while (std::getline(in, line)) {
+    if (std::regex_match(line, m, label)) s.per_label[m[1]] = std::stoul(m[2]);
+  }
+  if (std::regex_search(out, m,
+                        std::regex(R"(star tracker: (\d+) frames, (\d+) solved .*, (\d+) tracking)"))) {
+    s.frames = std::stoi(m[1]);
+    s.solved = std::stoi(m[2]);
+    s.tracking = std::stoi(m[3]);
+  }
+  return s;
+}
+
+TEST(Live, ThirtySecondsOnSimulatedSensorsStoppedBySigintKeepsEveryObservation) {
+  const std::string dir = test::makeTempDir("live30");
+  const std::string ini = copyConfig(dir);
+  const std::string rawlog = dir + "/out.rawlog";
+  std::string out;
+  // --preserve-status: the exit code is startracker's own after it handled SIGINT.
+  const int rc = test::runCommand("timeout --preserve-status -s INT 30 '" +
+                                      test::startrackerExe() + "' live '" + ini + "' -o '" +
+                                      rawlog + "'",
+                                  &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_THAT(out, ::testing::HasSubstr("stopped by SIGINT")) << out;
+  const Summary s = parseSummary(out);
+  ASSERT_EQ(s.rawlog, rawlog) << out;
+  ASSERT_GT(s.total, 0u) << out;
+
+  // Every counted observation is in the file, label by label; the file reads to its end.
+  const auto all = readRawlog(rawlog);
+  ASSERT_EQ(all.size(), s.total) << out;
+  std::map<std::string, std::size_t> got;
+  for (const auto& o : all) ++got[o->sensorLabel];
+  EXPECT_EQ(got, s.per_label) << out;
+
+  // What the run should hold: ~10 frames/s and ~100 gyro samples/s for the time after the
+  // start-up (database build), a fix, a frame and a truth per frame.
+  const std::size_t fixes = got["STAR_TRACKER"];
+  EXPECT_GE(fixes, 100u) << out;
+  EXPECT_EQ(got["CAMERA"], fixes);
+  EXPECT_EQ(got["GROUND_TRUTH"], fixes);
+  EXPECT_GE(got["GYRO"], 8 * fixes);
+  EXPECT_EQ(s.frames, static_cast<int>(fixes));
+
+  // The fixes against the truth, and the filter's predictions at work (tracking).
+  std::map<int64_t, Quat> truth;
+  for (const auto& o : all) {
+    if (auto g = std::dynamic_pointer_cast<mrpt::obs::CObservation6DFeatures>(o))
+      truth[g->timestamp.time_since_epoch().count()] = truthFromObservation(*g).q_ib;
+  }
+  int solved = 0, consistent = 0;
+  for (const auto& o : all) {
+    auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o);
+    if (!f || !f->hasAttitude()) continue;
+    ++solved;
+    const auto it = truth.find(f->timestamp.time_since_epoch().count());
+    ASSERT_NE(it, truth.end());
+    consistent += attitudeNees(f->q_ib, f->cov_body, it->second) < 16.266;  // chi2(3) 0.999
+  }
+  EXPECT_EQ(solved, s.solved);
+  EXPECT_GE(solved, static_cast<int>(0.95 * fixes)) << out;
+  EXPECT_GE(s.tracking, static_cast<int>(0.9 * fixes)) << out;
+  EXPECT_GE(consistent, static_cast<int>(0.98 * solved)) << out;
+
+  // The frames are external PNGs beside the rawlog, and load.
+  for (const auto& o : all) {
+    if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(o)) {
+      EXPECT_TRUE(img->image.isExternallyStored());
+      img->image.forceLoad();
+      EXPECT_EQ(img->image.getWidth(), 512u);
+      break;
+    }
+  }
+}
+
+int runLive(const std::string& ini_text, const std::string& tag, std::string* out,
+            const std::string& extra = "") {
+  const std::string dir = test::makeTempDir(tag);
+  copyConfig(dir);  // the scenario sections the sensors refer to
+  const std::string ini = dir + "/bad.ini";
+  std::ofstream(ini) << ini_text;
+  return test::runCommand("'" + test::startrackerExe() + "' live '" + ini + "' -o '" + dir +
+                              "/x.rawlog' " + extra + " < /dev/null",
+                          out);
+}
+
+TEST(Live, UnknownSensorClassExits2NamingIt) {
+  std::string out;
+  EXPECT_EQ(runLive("[CAM]\ndriver = CNoSuchSensor\nprocess_rate = 10\n", "live_bad1", &out), 2)
+      << out;
+  EXPECT_THAT(out, ::testing::HasSubstr("CNoSuchSensor"));
+  EXPECT_THAT(out, ::testing::HasSubstr("section 'CAM'"));
+}
+
+TEST(Live, MissingKeyExits2NamingSectionAndKey) {
+  std::string out;
+  EXPECT_EQ(runLive("[TRK]\ndriver = CStarTrackerSensor\nprocess_rate = 10\n", "live_bad2", &out),
+            2)
+      << out;
+  EXPECT_THAT(out, ::testing::HasSubstr("section 'TRK'"));
+  EXPECT_THAT(out, ::testing::HasSubstr("image_source"));
+
+  EXPECT_EQ(runLive("[G]\ndriver = CSimulatedGyro\nscenario_file = live_sim.ini\n", "live_bad3",
+                    &out),
+            2)
+      << out;
+  EXPECT_THAT(out, ::testing::HasSubstr("section 'G' key 'process_rate'"));
+
+  EXPECT_EQ(runLive("[G]\ndriver = CSimulatedGyro\nprocess_rate = 10\n", "live_bad4", &out), 2)
+      << out;
+  EXPECT_THAT(out, ::testing::HasSubstr("scenario_file"));
+}
+
+TEST(Live, SensorThatFailsToStartIsNamedAndTheOthersKeepRecording) {
+  // BAD_GYRO's scenario has no [gyro] section: CSimulatedGyro::initialize throws.
+  const std::string ini =
+      "[GOOD_GYRO]\ndriver = CSimulatedGyro\nprocess_rate = 50\nsensorLabel = GYRO\n"
+      "scenario_file = live_sim.ini\n\n"
+      "[BAD_GYRO]\ndriver = CSimulatedGyro\nprocess_rate = 50\nsensorLabel = GYRO2\n"
+      "scenario_file = nogyro.ini\n";
+  const std::string dir = test::makeTempDir("live_fail");
+  fs::copy_file(test::repoDir() + "/rawlogs/live_sim.ini", dir + "/live_sim.ini");
+  {
+    std::ifstream in(dir + "/live_sim.ini");
+    std::ofstream outf(dir + "/nogyro.ini");
+    std::string line;
+    bool skip = false;
+    while (std::getline(in, line)) {
+      if (!line.empty() && line[0] == '[') skip = line == "[gyro]";
+      if (!skip) outf << line << "\n";
+    }
+  }
+  std::ofstream(dir + "/two.ini") << ini;
+  std::string out;
+  const int rc = test::runCommand("'" + test::startrackerExe() + "' live '" + dir +
+                                      "/two.ini' -o '" + dir + "/two.rawlog' --duration 3",
+                                  &out);
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_THAT(out, ::testing::HasSubstr("sensor 'BAD_GYRO'"));
+  EXPECT_THAT(out, ::testing::HasSubstr("failed to start"));
+  const Summary s = parseSummary(out);
+  EXPECT_GE(s.per_label.at("GYRO"), 200u) << out;  // ~3 s at 100 Hz from the good one
+  EXPECT_EQ(readRawlog(dir + "/two.rawlog").size(), s.total);
+}
+
+}  // namespace
+}  // namespace st
