@@ -6,6 +6,7 @@
 #include <mrpt/system/filesystem.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "catalog/star_catalog.hpp"
@@ -163,8 +164,9 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
 }
 
 void CStarTrackerSensor::setPathForExternalImages(const std::string& directory) {
-  if (!mrpt::system::createDirectory(directory))
-    throw InputError(directory + ": cannot create the external images folder");
+  std::error_code ec;  // mrpt::system::createDirectory fails when the folder exists
+  std::filesystem::create_directories(directory, ec);
+  if (ec) throw InputError(directory + ": cannot create the external images folder: " + ec.message());
   m_path_for_external_images = directory;
 }
 
