@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(ST_DETECT_NO_SIMD)
 #include <emmintrin.h>
 #endif
 
@@ -15,7 +15,7 @@ namespace {
 // 32 (8-bit) at a time: saturating subtract of t is zero exactly where the pixel is <= t.
 inline int findAbove(const uint16_t* row, int x, int end, int t) {
   if (t < 0) return x < end ? x : end;
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(ST_DETECT_NO_SIMD)
   const __m128i tv = _mm_set1_epi16(static_cast<short>(static_cast<uint16_t>(t)));
   const __m128i zero = _mm_setzero_si128();
   for (; x + 16 <= end; x += 16) {
@@ -32,7 +32,7 @@ inline int findAbove(const uint16_t* row, int x, int end, int t) {
 
 inline int findAbove(const uint8_t* row, int x, int end, int t) {
   if (t < 0) return x < end ? x : end;
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(ST_DETECT_NO_SIMD)
   const __m128i tv = _mm_set1_epi8(static_cast<char>(static_cast<uint8_t>(t)));
   const __m128i zero = _mm_setzero_si128();
   for (; x + 32 <= end; x += 32) {

@@ -25,8 +25,11 @@
 #include <cmath>
 #include <vector>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(ST_DETECT_NO_SIMD)
 #include <emmintrin.h>
+#endif
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(ST_DETECT_NO_AVX2)
+#include <immintrin.h>
 #endif
 
 #include "sensors/detect/centroider.hpp"
@@ -82,12 +85,14 @@ void cholSolve5(const M5& L, const V5& b, V5& x) {
   }
 }
 
-// Per-fit buffers. The pixels are stored two rows at a time, interleaved, so that one SSE2
-// register holds the same column of two rows: (r, c) of row pair k = r / 2 and lane r % 2 is
-// at (k * cols + c) * 2 + lane. Column tables are stored duplicated (both lanes the same),
-// row tables per lane. An odd last row gets a pad row with no usable pixel.
+// Per-fit buffers. The pixels are stored four rows at a time, interleaved, so that one
+// vector register holds the same column of 2 (SSE2) or 4 (AVX2) consecutive rows: pixel
+// (r, c) is at ((r / 4) * cols + c) * 4 + r % 4. Rows are padded to a multiple of 4 with
+// unusable pixels. Column tables are plain, row tables padded with zeros.
+constexpr int kLanes = 4;
+
 struct Work {
-  int cols = 0, rows = 0, pairs = 0;
+  int cols = 0, rows = 0, quads = 0;
   std::vector<double> val, use;                      // pixel value; 1 if usable else 0
   std::vector<double> w_cur, w_trial;                // per-pixel weights
   std::vector<double> fx, dx, sx, fy, dy, sy;        // f, df/dc, df/ds per column / row
@@ -95,80 +100,234 @@ struct Work {
   void reset(const StarPatch& P) {
     cols = P.values.cols;
     rows = P.values.rows;
-    pairs = (rows + 1) / 2;
-    const std::size_t n = static_cast<std::size_t>(pairs) * static_cast<std::size_t>(cols) * 2;
+    quads = (rows + kLanes - 1) / kLanes;
+    const std::size_t nr = static_cast<std::size_t>(quads) * kLanes;
+    const std::size_t n = nr * static_cast<std::size_t>(cols);
     for (auto* v : {&val, &use, &w_cur, &w_trial}) v->resize(n);
     for (auto* v : {&fx, &dx, &sx, &pdd, &pdf, &pds, &pff, &pfs, &pss})
-      v->resize(static_cast<std::size_t>(cols) * 2);
-    for (auto* v : {&fy, &dy, &sy}) v->assign(static_cast<std::size_t>(pairs) * 2, 0.0);
-    for (int r = 0; r < pairs * 2; ++r) {
+      v->resize(static_cast<std::size_t>(cols));
+    for (auto* v : {&fy, &dy, &sy}) v->assign(nr, 0.0);
+    for (int r = 0; r < static_cast<int>(nr); ++r) {
       const float* in = r < rows ? P.values[r] : nullptr;
-      for (int c = 0; c < cols; ++c) {
-        const std::size_t i = static_cast<std::size_t>(((r / 2) * cols + c) * 2 + (r & 1));
-        val[i] = in ? in[c] : 0.0;
-        use[i] = in && in[c] < P.saturation ? 1.0 : 0.0;  // clipped: no shape information
-        w_trial[i] = 0;  // "previous weights" of the first evaluation
+      double* pv = val.data() + static_cast<std::size_t>((r / kLanes) * cols * kLanes + r % kLanes);
+      double* pu = use.data() + (pv - val.data());
+      double* pw = w_trial.data() + (pv - val.data());
+      for (int c = 0; c < cols; ++c, pv += kLanes, pu += kLanes, pw += kLanes) {
+        *pv = in ? in[c] : 0.0;
+        *pu = in && in[c] < P.saturation ? 1.0 : 0.0;  // clipped: no shape information
+        *pw = 0;  // "previous weights" of the first evaluation
       }
     }
   }
 };
 
-// Per-lane (row) sums over the columns, for the pixel at column c with weight w and residual
-// res:  a_k = sum_c w * colprod_k(c)  (dx^2, dx fx, dx sx, dx, fx^2, fx sx, fx, sx^2, sx, 1),
-// b_k = sum_c w res (dx, fx, sx, 1),  cc = sum w res^2,  cw = sum w_prev res^2.
+// Per-row sums over the columns, for the pixel at column c with weight w and residual res:
+//   a_k = sum_c w * colprod_k(c)  (dx^2, dx fx, dx sx, dx, fx^2, fx sx, fx, sx^2, sx, 1),
+//   b_k = sum_c w res (dx, fx, sx, 1),  cc = sum w res^2,  cw = sum w_prev res^2.
 enum Sum { kAdd, kAdf, kAds, kAd, kAff, kAfs, kAf, kAss, kAs, kA1, kBd, kBf, kBs, kB1, kCc, kCw,
            kNumSums };
 
-#if defined(__SSE2__)
-// One row pair, two rows per register (lanes). Buffers come from operator new (16-byte
-// aligned) and every index is even: aligned loads.
-void rowPairSums(const Work& W, int k, const __m128d vFfy, double B, double sb2,
-                 double inv_gain, double* w_out, const double* w_prev, __m128d* s) {
-  const std::size_t o = static_cast<std::size_t>(k * W.cols) * 2;
-  const double* val = W.val.data() + o;
-  const double* use = W.use.data() + o;
-  const double* wp = w_prev + o;
-  double* wo = w_out + o;
-  const double *fx = W.fx.data(), *dx = W.dx.data(), *sx = W.sx.data();
-  const __m128d vB = _mm_set1_pd(B), vsb2 = _mm_set1_pd(sb2), vig = _mm_set1_pd(inv_gain);
-  const __m128d zero = _mm_setzero_pd();
-  __m128d cc = zero, cw = zero, bd = zero, bf = zero, bs = zero, b1 = zero;
-  const int n = 2 * W.cols;
-  for (int c = 0; c < n; c += 2) {
-    const __m128d f = _mm_load_pd(fx + c);
-    const __m128d m = _mm_mul_pd(vFfy, f);
-    const __m128d var = _mm_add_pd(vsb2, _mm_mul_pd(_mm_max_pd(m, zero), vig));
-    const __m128d w = _mm_div_pd(_mm_load_pd(use + c), var);
-    _mm_store_pd(wo + c, w);
-    const __m128d res = _mm_sub_pd(_mm_sub_pd(_mm_load_pd(val + c), vB), m);
-    const __m128d wr = _mm_mul_pd(w, res);
-    cc = _mm_add_pd(cc, _mm_mul_pd(wr, res));
-    cw = _mm_add_pd(cw, _mm_mul_pd(_mm_load_pd(wp + c), _mm_mul_pd(res, res)));
-    bd = _mm_add_pd(bd, _mm_mul_pd(wr, _mm_load_pd(dx + c)));
-    bf = _mm_add_pd(bf, _mm_mul_pd(wr, f));
-    bs = _mm_add_pd(bs, _mm_mul_pd(wr, _mm_load_pd(sx + c)));
-    b1 = _mm_add_pd(b1, wr);
+// Totals accumulated over the rows: the 15 entries of J^T W J, J^T W r and the two chi2.
+enum Total { kH00, kH01, kH02, kH03, kH04, kH11, kH12, kH13, kH14, kH22, kH23, kH24, kH33,
+             kH34, kH44, kG0, kG1, kG2, kG3, kG4, kChi2, kChi2w, kNumTotals };
+
+// Adds one row's sums (or, lane-wise, one register of rows) times its row factors to the
+// totals. With j = (F fy dx, F dy fx, fx fy, 1, F (fy sx + sy fx)) for the pixel in column c,
+// row r, every entry of J^T W J is a row factor times a column sum sum_c w_rc * (product of
+// the column tables dx, fx, sx): 10 weighted sums and 4 residual sums per row, instead of
+// 15 + 5 products of Jacobian entries per pixel. T is double, __m128d or __m256d.
+#define ST_GAUSS_ADD_ROW(T, s, fy, Ffy, Fdy, Fsy, t)                                        \
+  do {                                                                                      \
+    const T a4f = Ffy * s[kAfs] + Fsy * s[kAff]; /* sum w j4 fx */                          \
+    t[kH00] += Ffy * Ffy * s[kAdd];                                                         \
+    t[kH01] += Ffy * Fdy * s[kAdf];                                                         \
+    t[kH02] += Ffy * fy * s[kAdf];                                                          \
+    t[kH03] += Ffy * s[kAd];                                                                \
+    t[kH04] += Ffy * (Ffy * s[kAds] + Fsy * s[kAdf]);                                       \
+    t[kH11] += Fdy * Fdy * s[kAff];                                                         \
+    t[kH12] += Fdy * fy * s[kAff];                                                          \
+    t[kH13] += Fdy * s[kAf];                                                                \
+    t[kH14] += Fdy * a4f;                                                                   \
+    t[kH22] += fy * fy * s[kAff];                                                           \
+    t[kH23] += fy * s[kAf];                                                                 \
+    t[kH24] += fy * a4f;                                                                    \
+    t[kH33] += s[kA1];                                                                      \
+    t[kH34] += Ffy * s[kAs] + Fsy * s[kAf];                                                 \
+    t[kH44] += Ffy * (Ffy * s[kAss] + Fsy * s[kAfs]) + Fsy * a4f;                           \
+    t[kG0] += Ffy * s[kBd];                                                                 \
+    t[kG1] += Fdy * s[kBf];                                                                 \
+    t[kG2] += fy * s[kBf];                                                                  \
+    t[kG3] += s[kB1];                                                                       \
+    t[kG4] += Ffy * s[kBs] + Fsy * s[kBf];                                                  \
+    t[kChi2] += s[kCc];                                                                     \
+    t[kChi2w] += s[kCw];                                                                    \
+  } while (0)
+
+// Scalar: one row at a time (any CPU).
+[[maybe_unused]] void accumulateScalar(const Work& W, double F, double B, double sb2,
+                                       double inv_gain, double* w_out, const double* w_prev,
+                                       double* tot) {
+  for (int r = 0; r < W.rows; ++r) {
+    const std::size_t o =
+        static_cast<std::size_t>((r / kLanes) * W.cols * kLanes + r % kLanes);
+    const std::size_t ri = static_cast<std::size_t>(r);
+    const double fy = W.fy[ri], Ffy = F * fy, Fdy = F * W.dy[ri], Fsy = F * W.sy[ri];
+    double s[kNumSums] = {};
+    for (int c = 0; c < W.cols; ++c) {
+      const std::size_t i = o + static_cast<std::size_t>(c) * kLanes;
+      const std::size_t j = static_cast<std::size_t>(c);
+      const double m = Ffy * W.fx[j];
+      const double w = W.use[i] / (sb2 + (m > 0 ? m * inv_gain : 0.0));
+      w_out[i] = w;
+      const double res = W.val[i] - B - m, wr = w * res;
+      const double col[kA1 + 1] = {W.pdd[j], W.pdf[j], W.pds[j], W.dx[j], W.pff[j],
+                                   W.pfs[j], W.fx[j],  W.pss[j], W.sx[j], 1.0};
+      for (int k = 0; k <= kA1; ++k) s[k] += w * col[k];
+      s[kBd] += wr * W.dx[j];
+      s[kBf] += wr * W.fx[j];
+      s[kBs] += wr * W.sx[j];
+      s[kB1] += wr;
+      s[kCc] += wr * res;
+      s[kCw] += w_prev[i] * res * res;
+    }
+    ST_GAUSS_ADD_ROW(double, s, fy, Ffy, Fdy, Fsy, tot);
   }
-  __m128d add = zero, adf = zero, ads = zero, ad = zero, aff = zero, afs = zero, af = zero,
-          ass = zero, as = zero, a1 = zero;
+}
+
+#if defined(__SSE2__) && !defined(ST_DETECT_NO_SIMD)
+// SSE2 (the x86-64 baseline): two rows per register, lanes {0, 1} and {2, 3} of each quad.
+void accumulateSse2(const Work& W, double F, double B, double sb2, double inv_gain,
+                    double* w_out, const double* w_prev, double* tot) {
+  const __m128d vB = _mm_set1_pd(B), vsb2 = _mm_set1_pd(sb2), vig = _mm_set1_pd(inv_gain);
+  const __m128d vF = _mm_set1_pd(F), zero = _mm_setzero_pd();
+  const double *fx = W.fx.data(), *dx = W.dx.data(), *sx = W.sx.data();
   const double *pdd = W.pdd.data(), *pdf = W.pdf.data(), *pds = W.pds.data();
   const double *pff = W.pff.data(), *pfs = W.pfs.data(), *pss = W.pss.data();
-  for (int c = 0; c < n; c += 2) {
-    const __m128d w = _mm_load_pd(wo + c);
-    add = _mm_add_pd(add, _mm_mul_pd(w, _mm_load_pd(pdd + c)));
-    adf = _mm_add_pd(adf, _mm_mul_pd(w, _mm_load_pd(pdf + c)));
-    ads = _mm_add_pd(ads, _mm_mul_pd(w, _mm_load_pd(pds + c)));
-    ad = _mm_add_pd(ad, _mm_mul_pd(w, _mm_load_pd(dx + c)));
-    aff = _mm_add_pd(aff, _mm_mul_pd(w, _mm_load_pd(pff + c)));
-    afs = _mm_add_pd(afs, _mm_mul_pd(w, _mm_load_pd(pfs + c)));
-    af = _mm_add_pd(af, _mm_mul_pd(w, _mm_load_pd(fx + c)));
-    ass = _mm_add_pd(ass, _mm_mul_pd(w, _mm_load_pd(pss + c)));
-    as = _mm_add_pd(as, _mm_mul_pd(w, _mm_load_pd(sx + c)));
-    a1 = _mm_add_pd(a1, w);
+  const int cols = W.cols, quads = W.quads;
+  __m128d t[kNumTotals];
+  for (auto& x : t) x = zero;
+  for (int h = 0; h < quads * 2; ++h) {  // half-quads: rows 2h, 2h + 1
+    const std::size_t o = static_cast<std::size_t>((h / 2) * cols * kLanes + (h % 2) * 2);
+    const double* val = W.val.data() + o;
+    const double* use = W.use.data() + o;
+    const double* wp = w_prev + o;
+    double* wo = w_out + o;
+    const __m128d fy = _mm_loadu_pd(W.fy.data() + 2 * h);
+    const __m128d Ffy = _mm_mul_pd(vF, fy);
+    const __m128d Fdy = _mm_mul_pd(vF, _mm_loadu_pd(W.dy.data() + 2 * h));
+    const __m128d Fsy = _mm_mul_pd(vF, _mm_loadu_pd(W.sy.data() + 2 * h));
+    __m128d cc = zero, cw = zero, bd = zero, bf = zero, bs = zero, b1 = zero;
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = static_cast<std::size_t>(c) * kLanes;
+      const __m128d f = _mm_load1_pd(fx + c);
+      const __m128d m = _mm_mul_pd(Ffy, f);
+      const __m128d var = _mm_add_pd(vsb2, _mm_mul_pd(_mm_max_pd(m, zero), vig));
+      const __m128d w = _mm_div_pd(_mm_loadu_pd(use + i), var);
+      _mm_storeu_pd(wo + i, w);
+      const __m128d res = _mm_sub_pd(_mm_sub_pd(_mm_loadu_pd(val + i), vB), m);
+      const __m128d wr = _mm_mul_pd(w, res);
+      cc = _mm_add_pd(cc, _mm_mul_pd(wr, res));
+      cw = _mm_add_pd(cw, _mm_mul_pd(_mm_loadu_pd(wp + i), _mm_mul_pd(res, res)));
+      bd = _mm_add_pd(bd, _mm_mul_pd(wr, _mm_load1_pd(dx + c)));
+      bf = _mm_add_pd(bf, _mm_mul_pd(wr, f));
+      bs = _mm_add_pd(bs, _mm_mul_pd(wr, _mm_load1_pd(sx + c)));
+      b1 = _mm_add_pd(b1, wr);
+    }
+    __m128d s[kNumSums];
+    s[kA1] = s[kAs] = s[kAss] = s[kAf] = s[kAfs] = s[kAff] = s[kAd] = s[kAds] = s[kAdf] =
+        s[kAdd] = zero;
+    for (int c = 0; c < cols; ++c) {
+      const __m128d w = _mm_loadu_pd(wo + static_cast<std::size_t>(c) * kLanes);
+      s[kAdd] = _mm_add_pd(s[kAdd], _mm_mul_pd(w, _mm_load1_pd(pdd + c)));
+      s[kAdf] = _mm_add_pd(s[kAdf], _mm_mul_pd(w, _mm_load1_pd(pdf + c)));
+      s[kAds] = _mm_add_pd(s[kAds], _mm_mul_pd(w, _mm_load1_pd(pds + c)));
+      s[kAd] = _mm_add_pd(s[kAd], _mm_mul_pd(w, _mm_load1_pd(dx + c)));
+      s[kAff] = _mm_add_pd(s[kAff], _mm_mul_pd(w, _mm_load1_pd(pff + c)));
+      s[kAfs] = _mm_add_pd(s[kAfs], _mm_mul_pd(w, _mm_load1_pd(pfs + c)));
+      s[kAf] = _mm_add_pd(s[kAf], _mm_mul_pd(w, _mm_load1_pd(fx + c)));
+      s[kAss] = _mm_add_pd(s[kAss], _mm_mul_pd(w, _mm_load1_pd(pss + c)));
+      s[kAs] = _mm_add_pd(s[kAs], _mm_mul_pd(w, _mm_load1_pd(sx + c)));
+      s[kA1] = _mm_add_pd(s[kA1], w);
+    }
+    s[kBd] = bd, s[kBf] = bf, s[kBs] = bs, s[kB1] = b1, s[kCc] = cc, s[kCw] = cw;
+    ST_GAUSS_ADD_ROW(__m128d, s, fy, Ffy, Fdy, Fsy, t);
   }
-  s[kAdd] = add, s[kAdf] = adf, s[kAds] = ads, s[kAd] = ad, s[kAff] = aff, s[kAfs] = afs;
-  s[kAf] = af, s[kAss] = ass, s[kAs] = as, s[kA1] = a1, s[kBd] = bd, s[kBf] = bf;
-  s[kBs] = bs, s[kB1] = b1, s[kCc] = cc, s[kCw] = cw;
+  for (int i = 0; i < kNumTotals; ++i)
+    tot[i] = _mm_cvtsd_f64(_mm_add_sd(t[i], _mm_unpackhi_pd(t[i], t[i])));
+}
+#endif
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(ST_DETECT_NO_AVX2)
+#define ST_GAUSS_AVX2 1
+// AVX2 + FMA, chosen at run time: four rows per register, fused multiply-adds.
+__attribute__((target("avx2,fma"))) void accumulateAvx2(const Work& W, double F, double B,
+                                                        double sb2, double inv_gain,
+                                                        double* w_out, const double* w_prev,
+                                                        double* tot) {
+  const __m256d vB = _mm256_set1_pd(B), vsb2 = _mm256_set1_pd(sb2);
+  const __m256d vig = _mm256_set1_pd(inv_gain), vF = _mm256_set1_pd(F);
+  const __m256d zero = _mm256_setzero_pd();
+  const double *fx = W.fx.data(), *dx = W.dx.data(), *sx = W.sx.data();
+  const double *pdd = W.pdd.data(), *pdf = W.pdf.data(), *pds = W.pds.data();
+  const double *pff = W.pff.data(), *pfs = W.pfs.data(), *pss = W.pss.data();
+  const int cols = W.cols, quads = W.quads;
+  __m256d t[kNumTotals];
+  for (auto& x : t) x = zero;
+  for (int q = 0; q < quads; ++q) {
+    const std::size_t o = static_cast<std::size_t>(q * cols * kLanes);
+    const double* val = W.val.data() + o;
+    const double* use = W.use.data() + o;
+    const double* wp = w_prev + o;
+    double* wo = w_out + o;
+    const __m256d fy = _mm256_loadu_pd(W.fy.data() + kLanes * q);
+    const __m256d Ffy = _mm256_mul_pd(vF, fy);
+    const __m256d Fdy = _mm256_mul_pd(vF, _mm256_loadu_pd(W.dy.data() + kLanes * q));
+    const __m256d Fsy = _mm256_mul_pd(vF, _mm256_loadu_pd(W.sy.data() + kLanes * q));
+    __m256d cc = zero, cw = zero, bd = zero, bf = zero, bs = zero, b1 = zero;
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = static_cast<std::size_t>(c) * kLanes;
+      const __m256d f = _mm256_broadcast_sd(fx + c);
+      const __m256d m = _mm256_mul_pd(Ffy, f);
+      const __m256d var = _mm256_fmadd_pd(_mm256_max_pd(m, zero), vig, vsb2);
+      const __m256d w = _mm256_div_pd(_mm256_loadu_pd(use + i), var);
+      _mm256_storeu_pd(wo + i, w);
+      const __m256d res = _mm256_sub_pd(_mm256_sub_pd(_mm256_loadu_pd(val + i), vB), m);
+      const __m256d wr = _mm256_mul_pd(w, res);
+      cc = _mm256_fmadd_pd(wr, res, cc);
+      cw = _mm256_fmadd_pd(_mm256_loadu_pd(wp + i), _mm256_mul_pd(res, res), cw);
+      bd = _mm256_fmadd_pd(wr, _mm256_broadcast_sd(dx + c), bd);
+      bf = _mm256_fmadd_pd(wr, f, bf);
+      bs = _mm256_fmadd_pd(wr, _mm256_broadcast_sd(sx + c), bs);
+      b1 = _mm256_add_pd(b1, wr);
+    }
+    __m256d s[kNumSums];
+    s[kA1] = s[kAs] = s[kAss] = s[kAf] = s[kAfs] = s[kAff] = s[kAd] = s[kAds] = s[kAdf] =
+        s[kAdd] = zero;
+    for (int c = 0; c < cols; ++c) {
+      const __m256d w = _mm256_loadu_pd(wo + static_cast<std::size_t>(c) * kLanes);
+      s[kAdd] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(pdd + c), s[kAdd]);
+      s[kAdf] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(pdf + c), s[kAdf]);
+      s[kAds] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(pds + c), s[kAds]);
+      s[kAd] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(dx + c), s[kAd]);
+      s[kAff] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(pff + c), s[kAff]);
+      s[kAfs] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(pfs + c), s[kAfs]);
+      s[kAf] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(fx + c), s[kAf]);
+      s[kAss] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(pss + c), s[kAss]);
+      s[kAs] = _mm256_fmadd_pd(w, _mm256_broadcast_sd(sx + c), s[kAs]);
+      s[kA1] = _mm256_add_pd(s[kA1], w);
+    }
+    s[kBd] = bd, s[kBf] = bf, s[kBs] = bs, s[kB1] = b1, s[kCc] = cc, s[kCw] = cw;
+    ST_GAUSS_ADD_ROW(__m256d, s, fy, Ffy, Fdy, Fsy, t);
+  }
+  for (int i = 0; i < kNumTotals; ++i) {
+    const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(t[i]), _mm256_extractf128_pd(t[i], 1));
+    tot[i] = _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
+  }
+}
+
+bool haveAvx2() {
+  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return ok;
 }
 #endif
 
@@ -183,102 +342,32 @@ struct Normal {
   double chi2_prev = 0;  // weights w_prev
 };
 
-// Totals accumulated over the rows: the 15 entries of J^T W J, J^T W r and the two chi2.
-enum Total { kH00, kH01, kH02, kH03, kH04, kH11, kH12, kH13, kH14, kH22, kH23, kH24, kH33,
-             kH34, kH44, kG0, kG1, kG2, kG3, kG4, kChi2, kChi2w, kNumTotals };
-
-// Adds one row's (or, lane-wise, one row pair's) sums times its row factors to the totals.
-// With j = (F fy dx, F dy fx, fx fy, 1, F (fy sx + sy fx)) for the pixel in column c, row r,
-// every entry of J^T W J is a row factor times a column sum sum_c w_rc * (product of the
-// column tables dx, fx, sx): 10 weighted sums and 4 residual sums per row, instead of 15 + 5
-// products of Jacobian entries per pixel. T is double or __m128d.
-template <typename T>
-void addRow(const T* s, T fy, T Ffy, T Fdy, T Fsy, T* t) {
-  const T a4f = Ffy * s[kAfs] + Fsy * s[kAff];  // sum w j4 fx
-  t[kH00] += Ffy * Ffy * s[kAdd];
-  t[kH01] += Ffy * Fdy * s[kAdf];
-  t[kH02] += Ffy * fy * s[kAdf];
-  t[kH03] += Ffy * s[kAd];
-  t[kH04] += Ffy * (Ffy * s[kAds] + Fsy * s[kAdf]);
-  t[kH11] += Fdy * Fdy * s[kAff];
-  t[kH12] += Fdy * fy * s[kAff];
-  t[kH13] += Fdy * s[kAf];
-  t[kH14] += Fdy * a4f;
-  t[kH22] += fy * fy * s[kAff];
-  t[kH23] += fy * s[kAf];
-  t[kH24] += fy * a4f;
-  t[kH33] += s[kA1];
-  t[kH34] += Ffy * s[kAs] + Fsy * s[kAf];
-  t[kH44] += Ffy * (Ffy * s[kAss] + Fsy * s[kAfs]) + Fsy * (Ffy * s[kAfs] + Fsy * s[kAff]);
-  t[kG0] += Ffy * s[kBd];
-  t[kG1] += Fdy * s[kBf];
-  t[kG2] += fy * s[kBf];
-  t[kG3] += s[kB1];
-  t[kG4] += Ffy * s[kBs] + Fsy * s[kBf];
-  t[kChi2] += s[kCc];
-  t[kChi2w] += s[kCw];
-}
-
 void evaluate(const StarPatch& P, const V5& p, Work& W, double* w_out, const double* w_prev,
               Normal& N) {
-  // Column tables, duplicated for the two lanes; row tables (pad row stays 0).
-  thread_local std::vector<double> cx, cdx, csx;
-  cx.resize(static_cast<std::size_t>(W.cols));
-  cdx.resize(cx.size());
-  csx.resize(cx.size());
-  pixelGaussianRow(W.cols, P.origin.x, p[0], p[4], cx.data(), cdx.data(), csx.data());
+  pixelGaussianRow(W.cols, P.origin.x, p[0], p[4], W.fx.data(), W.dx.data(), W.sx.data());
   pixelGaussianRow(W.rows, P.origin.y, p[1], p[4], W.fy.data(), W.dy.data(), W.sy.data());
   for (int c = 0; c < W.cols; ++c) {
     const std::size_t i = static_cast<std::size_t>(c);
-    const double f = cx[i], d = cdx[i], s = csx[i];
-    const double col[9] = {f, d, s, d * d, d * f, d * s, f * f, f * s, s * s};
-    std::vector<double>* dst[9] = {&W.fx, &W.dx, &W.sx, &W.pdd, &W.pdf, &W.pds, &W.pff, &W.pfs,
-                                   &W.pss};
-    for (int k = 0; k < 9; ++k) (*dst[k])[2 * i] = (*dst[k])[2 * i + 1] = col[k];
+    const double f = W.fx[i], d = W.dx[i], s = W.sx[i];
+    W.pdd[i] = d * d;
+    W.pdf[i] = d * f;
+    W.pds[i] = d * s;
+    W.pff[i] = f * f;
+    W.pfs[i] = f * s;
+    W.pss[i] = s * s;
   }
   const double F = p[2], B = p[3];
   const double sb2 = P.sigma_bg * P.sigma_bg, inv_gain = 1.0 / P.gain;
   double tot[kNumTotals] = {};
-#if defined(__SSE2__)
-  __m128d vt[kNumTotals];
-  for (auto& x : vt) x = _mm_setzero_pd();
-  const __m128d vF = _mm_set1_pd(F);
-  for (int k = 0; k < W.pairs; ++k) {
-    const __m128d fy = _mm_loadu_pd(W.fy.data() + 2 * k);
-    const __m128d Ffy = _mm_mul_pd(vF, fy);
-    const __m128d Fdy = _mm_mul_pd(vF, _mm_loadu_pd(W.dy.data() + 2 * k));
-    const __m128d Fsy = _mm_mul_pd(vF, _mm_loadu_pd(W.sy.data() + 2 * k));
-    __m128d s[kNumSums];
-    rowPairSums(W, k, Ffy, B, sb2, inv_gain, w_out, w_prev, s);
-    addRow(s, fy, Ffy, Fdy, Fsy, vt);
-  }
-  for (int i = 0; i < kNumTotals; ++i)
-    tot[i] = _mm_cvtsd_f64(_mm_add_sd(vt[i], _mm_unpackhi_pd(vt[i], vt[i])));
+#if defined(ST_GAUSS_AVX2)
+  if (haveAvx2())
+    accumulateAvx2(W, F, B, sb2, inv_gain, w_out, w_prev, tot);
+  else
+#endif
+#if defined(__SSE2__) && !defined(ST_DETECT_NO_SIMD)
+    accumulateSse2(W, F, B, sb2, inv_gain, w_out, w_prev, tot);
 #else
-  for (int r = 0; r < W.rows; ++r) {
-    const int lane = r & 1;
-    const std::size_t o = static_cast<std::size_t>((r / 2) * W.cols) * 2 + lane;
-    const double fy = W.fy[static_cast<std::size_t>(r)], Ffy = F * fy;
-    double s[kNumSums] = {};
-    for (int c = 0; c < W.cols; ++c) {
-      const std::size_t i = o + 2 * static_cast<std::size_t>(c), j = 2 * static_cast<std::size_t>(c);
-      const double m = Ffy * W.fx[j];
-      const double w = W.use[i] / (sb2 + (m > 0 ? m * inv_gain : 0.0));
-      w_out[i] = w;
-      const double res = W.val[i] - B - m, wr = w * res;
-      const double cols[kA1 + 1] = {W.pdd[j], W.pdf[j], W.pds[j], W.dx[j], W.pff[j],
-                                    W.pfs[j], W.fx[j],  W.pss[j], W.sx[j], 1.0};
-      for (int k = 0; k <= kA1; ++k) s[k] += w * cols[k];
-      s[kBd] += wr * W.dx[j];
-      s[kBf] += wr * W.fx[j];
-      s[kBs] += wr * W.sx[j];
-      s[kB1] += wr;
-      s[kCc] += wr * res;
-      s[kCw] += w_prev[i] * res * res;
-    }
-    addRow(s, fy, Ffy, F * W.dy[static_cast<std::size_t>(r)],
-           F * W.sy[static_cast<std::size_t>(r)], tot);
-  }
+    accumulateScalar(W, F, B, sb2, inv_gain, w_out, w_prev, tot);
 #endif
   const double H[5][5] = {{tot[kH00], tot[kH01], tot[kH02], tot[kH03], tot[kH04]},
                           {tot[kH01], tot[kH11], tot[kH12], tot[kH13], tot[kH14]},
@@ -289,40 +378,6 @@ void evaluate(const StarPatch& P, const V5& p, Work& W, double* w_out, const dou
   for (int k = 0; k < 5; ++k) N.g[k] = tot[kG0 + k];
   N.chi2_self = tot[kChi2];
   N.chi2_prev = tot[kChi2w];
-}
-
-// Flux and background at the starting position and sigma by unweighted linear least squares
-// (v = B + F f): the centre of gravity's flux inherits the whole error of the local background
-// times the window area, which would cost Gauss-Newton an extra step or two.
-void linearStart(const StarPatch& P, const Work& W, V5& p) {
-  thread_local std::vector<double> fx, fy, tmp1, tmp2;
-  fx.resize(static_cast<std::size_t>(W.cols));
-  fy.resize(static_cast<std::size_t>(W.rows));
-  tmp1.resize(std::max(fx.size(), fy.size()));
-  tmp2.resize(tmp1.size());
-  pixelGaussianRow(W.cols, P.origin.x, p[0], p[4], fx.data(), tmp1.data(), tmp2.data());
-  pixelGaussianRow(W.rows, P.origin.y, p[1], p[4], fy.data(), tmp1.data(), tmp2.data());
-  double n = 0, sf = 0, sff = 0, sv = 0, svf = 0;
-  for (int r = 0; r < W.rows; ++r) {
-    const float* row = P.values[r];
-    const double y = fy[static_cast<std::size_t>(r)];
-    for (int c = 0; c < W.cols; ++c) {
-      if (!(row[c] < P.saturation)) continue;
-      const double f = y * fx[static_cast<std::size_t>(c)];
-      n += 1;
-      sf += f;
-      sff += f * f;
-      sv += row[c];
-      svf += row[c] * f;
-    }
-  }
-  const double det = sff * n - sf * sf;
-  if (!(det > 1e-12 * sff * n)) return;
-  const double F = (n * svf - sf * sv) / det, B = (sff * sv - sf * svf) / det;
-  if (F > 0 && std::isfinite(F) && std::isfinite(B)) {
-    p[2] = F;
-    p[3] = B;
-  }
 }
 
 bool finite5(const V5& v) {
@@ -373,7 +428,6 @@ class GaussFitCentroider final : public Centroider {
     }
     thread_local Work work;
     work.reset(P);
-    linearStart(P, work, p);
     double* w_cur = work.w_cur.data();
     double* w_trial = work.w_trial.data();
     Normal N, T;

@@ -21,8 +21,8 @@ PixelGaussian1d pixelGaussian1d(double a, double x, double s);
 /// The same for the `n` consecutive pixels centred at a0, a0 + 1, ..., written to f[k],
 /// df_dx[k], df_ds[k]: each pixel edge (shared by two pixels) is evaluated once, and the
 /// normal tail probability and density come from a cubic Hermite table (|error| < 1e-8 on
-/// f and the derivatives, see the test), several times cheaper than erfc + exp. Tails are
-/// taken on the side away from the centre, so far pixels keep their precision.
+/// f and the derivatives, see the test), several times cheaper than erfc + exp; with AVX2
+/// (chosen at run time) four edges at a time.
 void pixelGaussianRow(int n, double a0, double x, double s, double* f, double* df_dx,
                       double* df_ds);
 

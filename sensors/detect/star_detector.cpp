@@ -236,28 +236,28 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
     w.reason = "outside image";
     return;
   }
-  // Background and noise from the window's border ring; peak inside.
+  // Background and noise from the window's border ring; peak inside (first maximum in
+  // raster order).
   thread_local std::vector<float> ring;
-  ring.clear();
-  double peak = -1;
+  ring.resize(static_cast<std::size_t>(2 * win.width + 2 * (win.height - 2)));
+  float* rp = ring.data();
+  int best = -1;
   cv::Point pk;
   for (int y = win.y; y < win.y + win.height; ++y) {
     const T* row = grey.ptr<T>(y);
-    const bool edge_row = y == win.y || y == win.y + win.height - 1;
-    for (int x = win.x; x < win.x + win.width; ++x) {
-      const double v = row[x];
-      if (v > peak) {
-        peak = v;
+    for (int x = win.x; x < win.x + win.width; ++x)
+      if (static_cast<int>(row[x]) > best) {
+        best = row[x];
         pk = {x, y};
       }
-    }
-    if (edge_row) {
-      for (int x = win.x; x < win.x + win.width; ++x) ring.push_back(static_cast<float>(row[x]));
+    if (y == win.y || y == win.y + win.height - 1) {
+      for (int x = win.x; x < win.x + win.width; ++x) *rp++ = static_cast<float>(row[x]);
     } else {
-      ring.push_back(static_cast<float>(row[win.x]));
-      ring.push_back(static_cast<float>(row[win.x + win.width - 1]));
+      *rp++ = static_cast<float>(row[win.x]);
+      *rp++ = static_cast<float>(row[win.x + win.width - 1]);
     }
   }
+  const double peak = best;
   double b, sb;
   robustLevelSigma(ring, b, sb);
   sb = std::max({sb, opts.read_noise_adu, 0.3});
