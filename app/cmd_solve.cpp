@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/annotate.hpp"
 #include "app/camera_options.hpp"
 #include "app/command.hpp"
 #include "app/image_io.hpp"
@@ -36,6 +37,7 @@ struct SolveOptions {
   double epoch = 0;  // 0 = from the image, else today
   int max_stars = 12;
   double min_sigma_px = -1;  // <0: 0.5 px without a camera file, 0.1 px with one
+  std::string annotate;      // PNG path for a labelled picture of the solved frame
 };
 
 using Clock = std::chrono::steady_clock;
@@ -166,6 +168,21 @@ int run(const SolveOptions& o) {
   const CameraModel& cam = fs.camera;
   const auto& stars = db.stars();
 
+  if (!o.annotate.empty()) {
+    std::vector<Vec2> detections;
+    for (const Centroid& c : det.stars) detections.push_back(c.px);
+    std::vector<LabelledStar> identified;
+    for (const StarMatch& m : r.matches)
+      identified.push_back({fs.obs[m.obs_index].px, "HIP " + std::to_string(m.catalog_id)});
+    char l1[160], l2[160];
+    std::snprintf(l1, sizeof l1, "RA %.4f  Dec %+.4f  roll %.3f deg", rad2deg(rdr.ra),
+                  rad2deg(rdr.dec), rad2deg(rdr.roll));
+    std::snprintf(l2, sizeof l2, "1-sigma %.1f\" cross-boresight, %.1f\" roll; %zu/%zu stars, RMS %.2f px",
+                  rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll), r.matches.size(),
+                  det.stars.size(), r.rms_residual_px);
+    writeAnnotatedFrame(o.annotate, img.image, detections, identified, {l1, l2});
+  }
+
   if (o.json) {
     std::ostringstream js;
     js << "{\"solved\": true, \"image\": \"" << o.image << "\", ";
@@ -260,6 +277,8 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
       ->check(CLI::IsMember(WahbaSolver::names()))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object");
+  cmd->add_option("--annotate", o->annotate,
+                  "Write a labelled PNG of the solved frame (blobs circled, stars named)");
   cmd->add_option("--fov-range", o->fov_range_deg,
                   "Horizontal FOV range [deg] searched when neither --camera nor --fov-deg")
       ->expected(2)

@@ -14,10 +14,7 @@
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 
-#if __has_include("sensors/sim/simulated_sensors.hpp")
 #include "sensors/sim/simulated_sensors.hpp"
-#define ST_HAVE_SIM_SENSORS 1
-#endif
 
 namespace st {
 
@@ -30,9 +27,7 @@ void registerStarTrackerClasses() {
     // when reading, and CRawlog stops silently at the first such object.
     mrpt::rtti::registerClass(CLASS_ID(CObservationStarTracker));
     registerStarTrackerSensor();
-#ifdef ST_HAVE_SIM_SENSORS
     registerSimulatedSensors();
-#endif
   });
 }
 
