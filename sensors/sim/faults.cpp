@@ -7,30 +7,18 @@
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/number_list.hpp"
 #include "sensors/sim/motion.hpp"
 #include "sensors/sim/random_streams.hpp"
+
 
 namespace st {
 
 namespace {
 std::vector<double> readNumbers(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section, const std::string& key) {
-  std::string s = cfg.read_string(section, key, "");
-  for (char& c : s)
-    if (c == '[' || c == ']' || c == ',' || c == ';') c = ' ';
-  std::istringstream is(s);
-  std::vector<double> out;
-  std::string tok;
-  while (is >> tok) {
-    try {
-      std::size_t used = 0;
-      out.push_back(std::stod(tok, &used));
-      if (used != tok.size()) throw std::invalid_argument(tok);
-    } catch (const std::exception&) {
-      throw InputError("[" + section + "] key '" + key + "': '" + tok + "' is not a number");
-    }
-  }
-  return out;
+  return parseNumberList(cfg.read_string(section, key, ""),
+                         "[" + section + "] key '" + key + "'");
 }
 }  // namespace
 

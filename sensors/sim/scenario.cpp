@@ -12,43 +12,25 @@
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/number_list.hpp"
 #include "sensors/sim/random_streams.hpp"
 
 namespace st {
 
 namespace {
 
-std::vector<double> numberList(const std::string& text, const std::string& where) {
-  std::string s = text;
-  for (char& c : s)
-    if (c == '[' || c == ']' || c == ',' || c == ';') c = ' ';
-  std::istringstream is(s);
-  std::vector<double> out;
-  std::string tok;
-  while (is >> tok) {
-    try {
-      std::size_t used = 0;
-      out.push_back(std::stod(tok, &used));
-      if (used != tok.size()) throw std::invalid_argument(tok);
-    } catch (const std::exception&) {
-      throw InputError(where + ": '" + tok + "' is not a number");
-    }
-  }
-  return out;
-}
-
 CameraModel loadScenarioCamera(const mrpt::config::CConfigFileBase& cfg, const std::string& sec,
                                const std::string& source) {
   const std::string where = source + " [" + sec + "]";
   if (!cfg.sectionExists(sec)) throw InputError(where + ": missing section");
   if (!cfg.keyExists(sec, "fov_deg")) return CameraModel::loadIni(cfg, sec, source);
-  const auto res = numberList(cfg.read_string(sec, "resolution", ""), where + " key 'resolution'");
+  const auto res = parseNumberList(cfg.read_string(sec, "resolution", ""), where + " key 'resolution'");
   if (res.size() != 2) throw InputError(where + ": key 'resolution' must be [width height]");
   const double fov_deg = cfg.read_double(sec, "fov_deg", 0);
   CameraModel cam = CameraModel::fromFov(static_cast<int>(res[0]), static_cast<int>(res[1]),
                                          deg2rad(fov_deg));
   if (!cfg.keyExists(sec, "dist")) return cam;
-  const auto d = numberList(cfg.read_string(sec, "dist", ""), where + " key 'dist'");
+  const auto d = parseNumberList(cfg.read_string(sec, "dist", ""), where + " key 'dist'");
   if (d.size() < 4 || d.size() > 5)
     throw InputError(where + ": key 'dist' must be k1 k2 p1 p2 [k3]");
   return CameraModel(cam.width(), cam.height(), cam.fx(), cam.fy(), cam.cx(), cam.cy(),
@@ -123,7 +105,7 @@ Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const st
     if (cfg.sectionExists(gyr_sec)) {
       sc.gyro = GyroParams::fromConfig(cfg, gyr_sec);
       if (cfg.keyExists(gyr_sec, "initial_bias_deg_h")) {
-        const auto b = numberList(cfg.read_string(gyr_sec, "initial_bias_deg_h", ""),
+        const auto b = parseNumberList(cfg.read_string(gyr_sec, "initial_bias_deg_h", ""),
                                   "[" + gyr_sec + "] key 'initial_bias_deg_h'");
         if (b.size() != 3)
           throw InputError("[" + gyr_sec + "] key 'initial_bias_deg_h' must be three numbers");
