@@ -23,6 +23,10 @@ struct StarPatch {
   cv::Point origin{0, 0};    ///< image coordinates of values(0, 0)
   double background = 0;     ///< [ADU] local background level
   double sigma_bg = 1;       ///< [ADU] per-pixel noise without star light
+  /// [ADU^2] variance of `background` itself (an estimate from a few pixels): it moves every
+  /// background-subtracted pixel of the window together, so centroiders that take the
+  /// background as given add its effect on the position to the covariance.
+  double background_var = 0;
   double gain = 1;           ///< [e-/ADU]
   double saturation = 1e30;  ///< [ADU] pixels at or above are excluded where possible
   double psf_sigma = 1;      ///< [px] PSF sigma guess (> 0)

@@ -193,8 +193,10 @@ DetectionResult measureBlobs(const cv::Mat& grey, const BackgroundModel& bg,
                  box.width + 2 * opts.window_margin_px, box.height + 2 * opts.window_margin_px);
     win |= cv::Rect(c.peak.x - h, c.peak.y - h, 2 * h + 1, 2 * h + 1);
     win &= frame;
-    const StarPatch patch =
-        makePatch<T>(grey, win, b, sb, sat, psf, Vec2(c.peak.x, c.peak.y), opts);
+    StarPatch patch = makePatch<T>(grey, win, b, sb, sat, psf, Vec2(c.peak.x, c.peak.y), opts);
+    // Median of `background_samples` pixels per tile (16x that globally): pi/2 sigma^2 / n.
+    patch.background_var = 0.5 * M_PI * sb * sb /
+                           (opts.background_samples * (opts.background_tile_px > 0 ? 1.0 : 16.0));
     Centroid star;
     if (!measure(main, cog, patch, star, nullptr)) {
       ++res.rejected;
@@ -265,36 +267,56 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
     w.reason = "below threshold";
     return;
   }
-  // Centroid window around the peak, inside the search window: PSF radius plus the streak.
+  // Centroid window inside the search window: PSF radius plus half the streak around the
+  // star's middle. The brightest pixel of a streak can be anywhere along it (noise decides),
+  // so for a streak the middle is first located as the centre of the above-threshold pixels
+  // within a full streak length of the peak; a window centred on the peak would cut off up
+  // to half the streak and move the centroid by a quarter of its length.
   const double psf0 = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
   const double blur = p.blur_px.norm();
+  const double thr = b + opts.threshold_sigma * sb;
+  auto thresholdMoments = [&](const cv::Rect& r, int& area, Moments& mom) {
+    area = 0;
+    mom = Moments();
+    for (int y = r.y; y < r.y + r.height; ++y) {
+      const T* row = grey.ptr<T>(y);
+      for (int x = r.x; x < r.x + r.width; ++x) {
+        const double v = row[x];
+        if (v > thr) {
+          ++area;
+          mom.add(x, y, v - b);
+        }
+      }
+    }
+  };
+  const bool streak = blur > 2.0 * psf0;
+  cv::Point centre = pk;
+  int area = 0;
+  Moments mom;
+  if (streak) {
+    const int hs = static_cast<int>(std::ceil(2.5 * psf0 + blur));
+    thresholdMoments(cv::Rect(pk.x - hs, pk.y - hs, 2 * hs + 1, 2 * hs + 1) & win, area, mom);
+    if (mom.sw > 0)
+      centre = {static_cast<int>(std::lround(mom.sx / mom.sw)),
+                static_cast<int>(std::lround(mom.sy / mom.sw))};
+  }
   const int hc = static_cast<int>(std::ceil(2.5 * psf0 + 0.5 * blur));
-  const cv::Rect full(pk.x - hc, pk.y - hc, 2 * hc + 1, 2 * hc + 1);
+  const cv::Rect full(centre.x - hc, centre.y - hc, 2 * hc + 1, 2 * hc + 1);
   const cv::Rect cw = full & win;
   uint32_t flags = 0;
   if (peak >= sat) flags |= kSaturated;
   if ((full & frame).area() != full.area()) flags |= kTouchesEdge;
-  const double thr = b + opts.threshold_sigma * sb;
-  int area = 0;
-  Moments mom;
-  for (int y = cw.y; y < cw.y + cw.height; ++y) {
-    const T* row = grey.ptr<T>(y);
-    for (int x = cw.x; x < cw.x + cw.width; ++x) {
-      const double v = row[x];
-      if (v > thr) {
-        ++area;
-        mom.add(x, y, v - b);
-      }
-    }
-  }
+  thresholdMoments(cw, area, mom);
   double elong = 1, psf = 0;
   mom.shape(elong, psf);
   if (elong > opts.max_elongation) flags |= kElongated;
   if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
   psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
-  const StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+  StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+  // Variance of the ring median: pi/2 sigma^2 / n for Gaussian noise.
+  patch.background_var = 0.5 * M_PI * sb * sb / static_cast<double>(ring.size());
   // A streak is not a round PSF: the plain CoG measures its middle.
-  const Centroider& c = blur > 2.0 * psf ? cog : main;
+  const Centroider& c = streak ? cog : main;
   Centroid star;
   std::string reason;
   if (!measure(c, cog, patch, star, &reason)) {

@@ -48,6 +48,7 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
   }
   // Linearised covariance of the fixed point (header), plus flux, peak and SNR.
   Mat2 J = Mat2::Zero(), M = Mat2::Zero();
+  Vec2 Gd = Vec2::Zero();  // dF/db = -sum g_i d_i: the shift of a background error
   double flux = 0, peak = -1e300, var_flux = 0;
   for (int r = 0; r < v.rows; ++r) {
     const float* row = v[r];
@@ -58,6 +59,7 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
       const double var = patch.variance(s);
       J += s * g * (d * d.transpose() * inv_w2 - Mat2::Identity());
       M += var * g * g * d * d.transpose();
+      Gd += g * d;
       flux += s;
       var_flux += var;
       peak = std::max(peak, s);
@@ -70,7 +72,9 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
   }
   const Mat2 Ji = J.inverse();
   out.px = x;
-  out.cov_px = Ji * M * Ji.transpose();
+  // A background error db shifts every s_i by -db: dF = -db sum g_i d_i, independent of the
+  // per-pixel noise; zero for a window centred on the star, large for an off-centre one.
+  out.cov_px = Ji * (M + patch.background_var * Gd * Gd.transpose()) * Ji.transpose();
   out.flux = flux;
   out.peak = peak;
   out.snr = flux / std::sqrt(std::max(var_flux, 1e-300));
