@@ -8,5 +8,5 @@ cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)" --target startracker
 mkdir -p out
-./build/app/startracker replay rawlogs/slew_2dps.rawlog --plots out/replay --csv out/replay.csv \
+./build/app/startracker replay rawlogs/slew_2dps.rawlog --config rawlogs/tracker.ini --plots out/replay --csv out/replay.csv \
   -o out/replay.rawlog

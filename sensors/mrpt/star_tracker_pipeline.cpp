@@ -388,6 +388,39 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
     vobs.erase(vobs.begin() + long(worst));
     keep.erase(keep.begin() + long(worst));
   }
+  // Full-covariance refinement: QUEST weighs each star with one isotropic sigma, but a
+  // streak's centroid error is several times larger along the streak than across it, and
+  // all streaks of a frame are parallel, so the isotropic model misstates the attitude
+  // covariance (optimistic about the axis the streaks move along). Gauss-Newton on the pixel
+  // residuals d_k = c_k - pi(R^T r_k) with their 2x2 covariances C_k, pi(R Exp(dth) ...) =
+  // pi(R ...) + H_k dth (H_k as for the windows): dth = N^-1 sum H^T C^-1 d,
+  // N = sum H^T C^-1 H, and the covariance of the solution is N^-1 (the Fisher information
+  // of the pixel measurements; the QUEST solution is the exact start, two steps converge).
+  {
+    const Mat2 floor2 = opts_.min_sigma_px * opts_.min_sigma_px * Mat2::Identity();
+    for (int it = 0; it < 2; ++it) {
+      const Mat3 R = sol.q_ib.toRotationMatrix();
+      Mat3 N = Mat3::Zero();
+      Vec3 g = Vec3::Zero();
+      bool ok = true;
+      for (std::size_t k : keep) {
+        const Vec3 v = R.transpose() * db_.stars()[gated_cand[k]->star_index].u_i;
+        const auto px = camera_.vectorToPixel(v);
+        if (!px) {
+          ok = false;
+          break;
+        }
+        const Eigen::Matrix<double, 2, 3> H = projectionJacobian(camera_, v) * skew(v);
+        const Mat2 Ci = (gated[k].cov_px + floor2).inverse();
+        N += H.transpose() * Ci * H;
+        g += H.transpose() * Ci * (gated[k].px - *px);
+      }
+      const Eigen::LDLT<Mat3> ldlt(N);
+      if (!ok || ldlt.info() != Eigen::Success || !(N.determinant() > 0)) break;
+      sol.q_ib = canonical(sol.q_ib * quatExp(ldlt.solve(g)));
+      sol.cov_body = N.inverse();
+    }
+  }
   const Vec3 innov = quatLog(pred.q_ic.conjugate() * sol.q_ib);
   const Mat3 Sinn = pred.cov_cam + sol.cov_body;
   const double m2 = innov.dot(Sinn.ldlt().solve(innov));

@@ -69,7 +69,12 @@ struct PipelineOptions {
   std::string lis_algorithm = "pyramid";  ///< sensors/identify registry name
   IdentifyOptions identify;               ///< identify.solver is the Wahba solver of LIS
   DetectorOptions detect;                 ///< full-frame and window detection
-  double min_sigma_px = 0.02;             ///< floor of a centroid's sigma (toStarObservations)
+  /// [px] floor of a centroid's sigma (toStarObservations and the tracking refinement).
+  /// The centroid covariances are now consistent down to ~0.004 px (bright stars), so this
+  /// 0.02 px floor makes bright-star fixes pessimistic; lowering it needs the lost-in-space
+  /// verification (sensors/identify) to accept the tighter gates first (it rejects the
+  /// Orion frames at 0.001 px).
+  double min_sigma_px = 0.02;
 
   // --- tracking ---
   std::string solver = "quest";   ///< Wahba solver while tracking
