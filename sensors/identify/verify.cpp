@@ -23,6 +23,17 @@ double binomialUpperTail(int n, int m, double p) {
   return std::min(1.0, sum);
 }
 
+double chiSquareUpperTail(double x, int k) {
+  if (k < 1) return 1.0;
+  if (!(x > 0)) return 1.0;
+  const double h = x / 2;
+  // Start from k = 1 or 2 and climb by two (recurrence in verify.hpp), terms in logs.
+  int j = (k % 2) ? 1 : 2;
+  double q = (k % 2) ? std::erfc(std::sqrt(h)) : std::exp(-h);
+  for (; j < k; j += 2) q += std::exp(0.5 * j * std::log(h) - h - std::lgamma(0.5 * j + 1.0));
+  return std::min(1.0, std::max(0.0, q));
+}
+
 Verifier::Verifier(const StarDatabase& db, const CameraModel& camera, const WahbaSolver& solver,
                    VerifyOptions options)
     : db_(db), camera_(camera), solver_(solver), options_(options) {
@@ -89,15 +100,19 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   std::vector<uint32_t> cone;
   std::vector<Predicted> pred;
   std::vector<StarMatch> matches, prev;
-  std::vector<int> best_pred(n_obs);
+  std::vector<int> best_pred(n_obs), best_obs;
   std::vector<double> gate_cos(n_obs), gate_rad(n_obs), best_dot(n_obs);
+  std::vector<char> excluded(n_obs, 0), ambiguous(n_obs, 0);
   const double min_gate = options_.min_gate_px * camera_.pixelScale();
   WahbaSolution sol;
   sol.ok = true;
   sol.q_ib = q_ib;
   sol.cov_body = cov_body;
+  bool residual_failed = false;
 
-  for (int iter = 0; iter < std::max(1, options_.refine_iterations); ++iter) {
+  // Mutual nearest neighbours inside the gates at the attitude `sol` (excluded observations
+  // take no part); fills pred, best_pred, best_obs, gate_rad/cos and matches.
+  auto match = [&]() {
     const Mat3 r_ib = sol.q_ib.toRotationMatrix();
     const Mat3 r_bi = r_ib.transpose();
     const Mat3 p = sol.cov_body;
@@ -114,7 +129,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
     }
     // Nearest predicted star of every observation, and its gate.
     const int n_pred = static_cast<int>(pred.size());
-    std::vector<int> best_obs(n_pred, -1);
+    best_obs.assign(n_pred, -1);
     std::vector<double> best_obs_dot(n_pred, -2.0);
     for (int k = 0; k < n_obs; ++k) {
       best_pred[k] = -1;
@@ -123,7 +138,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       for (int j = 0; j < n_pred; ++j) {
         const double d = v.dot(pred[j].v_b);
         if (d > best_dot[k]) best_dot[k] = d, best_pred[k] = j;
-        if (d > best_obs_dot[j]) best_obs_dot[j] = d, best_obs[j] = k;
+        if (!excluded[k] && d > best_obs_dot[j]) best_obs_dot[j] = d, best_obs[j] = k;
       }
       const double var_att = best_pred[k] >= 0 ? pred[best_pred[k]].var_att : 0.0;
       const double off_axis = std::acos(std::clamp(v.z(), -1.0, 1.0));
@@ -133,10 +148,25 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       gate_rad[k] = r;
       gate_cos[k] = std::cos(r);
     }
+    // An observation with two predicted stars inside its gate, or a predicted star with two
+    // observations inside theirs (a close pair, a false star next to a real one), cannot be
+    // told apart at this noise: such pairs are left out rather than guessed.
+    std::vector<int> in_gate_obs(n_obs, 0), in_gate_pred(n_pred, 0);
+    for (int k = 0; k < n_obs; ++k) {
+      if (excluded[k]) continue;
+      const Vec3& v = obs[k].v_cam;
+      for (int j = 0; j < n_pred; ++j)
+        if (v.dot(pred[j].v_b) >= gate_cos[k]) ++in_gate_obs[k], ++in_gate_pred[j];
+    }
     matches.clear();
+    std::fill(ambiguous.begin(), ambiguous.end(), 0);
     for (int k = 0; k < n_obs; ++k) {
       const int j = best_pred[k];
-      if (j < 0 || best_obs[j] != k || best_dot[k] < gate_cos[k]) continue;
+      if (excluded[k] || j < 0 || best_obs[j] != k || best_dot[k] < gate_cos[k]) continue;
+      if (in_gate_obs[k] > 1 || in_gate_pred[j] > 1) {
+        ambiguous[k] = 1;
+        continue;
+      }
       StarMatch m;
       m.obs_index = k;
       m.star_index = pred[j].star;
@@ -144,23 +174,135 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       matches.push_back(m);
     }
     res.predicted_in_fov = n_pred;
-    if (matches.size() < 2) break;
+  };
+
+  // With scale slack (FOV search candidates) the residuals hold a scale error the centroid
+  // covariances do not describe; such candidates are re-verified after the focal-length fit.
+  const bool residual_test = options_.enabled && options_.residual_test &&
+                             options_.scale_tolerance <= 0;
+  const bool near_test = options_.enabled && options_.near_miss_test &&
+                         options_.scale_tolerance <= 0;
+  int near_rounds = 0;
+  // Unmatched, non-excluded observations whose nearest predicted star is unmatched and within
+  // near_miss_factor gate radii: (observation, prediction) pairs; also sets near_p, the mean
+  // chance probability of such a near miss (model in verify.hpp).
+  std::vector<std::pair<int, int>> near;
+  int n_unmatched = 0;
+  double near_p = 0;
+  auto findNearMisses = [&]() {
+    near.clear();
+    const int n_pred = static_cast<int>(pred.size());
+    std::vector<char> pred_used(n_pred, 0), obs_used(n_obs, 0);
+    for (const StarMatch& mm : matches) obs_used[mm.obs_index] = 1;
+    for (int k = 0; k < n_obs; ++k)
+      if (obs_used[k] && best_pred[k] >= 0) pred_used[best_pred[k]] = 1;
+    const int n_pred_free = std::max(0, n_pred - static_cast<int>(matches.size()));
+    n_unmatched = 0;
+    double sum = 0;
+    for (int k = 0; k < n_obs; ++k) {
+      if (obs_used[k] || excluded[k] || ambiguous[k]) continue;
+      ++n_unmatched;
+      const double r = options_.near_miss_factor * gate_rad[k];
+      sum += std::min(1.0, n_pred_free * kPi * r * r / omega_fov_);
+      const int j = best_pred[k];
+      if (j >= 0 && !pred_used[j] && best_dot[k] >= std::cos(r)) near.push_back({k, j});
+    }
+    near_p = n_unmatched > 0 ? sum / n_unmatched : 0.0;
+    return static_cast<int>(near.size());
+  };
+  auto solveMatches = [&](const std::vector<std::pair<int, int>>& extra) {
     std::vector<VectorObservation> vo;
-    vo.reserve(matches.size());
-    for (const StarMatch& m : matches)
-      vo.push_back({obs[m.obs_index].v_cam, stars[m.star_index].u_i, obs[m.obs_index].sigma});
-    const WahbaSolution next = solver_.solve(vo);
-    if (!next.ok) break;
-    sol = next;
-    const bool same = prev.size() == matches.size() &&
-                      std::equal(prev.begin(), prev.end(), matches.begin(),
-                                 [](const StarMatch& a, const StarMatch& b) {
-                                   return a.obs_index == b.obs_index &&
-                                          a.star_index == b.star_index;
-                                 });
-    if (same) break;
-    prev = matches;
+    vo.reserve(matches.size() + extra.size());
+    for (const StarMatch& mm : matches)
+      vo.push_back({obs[mm.obs_index].v_cam, stars[mm.star_index].u_i, obs[mm.obs_index].sigma});
+    for (const auto& [k, j] : extra)
+      vo.push_back({obs[k].v_cam, stars[pred[j].star].u_i, obs[k].sigma});
+    return solver_.solve(vo);
+  };
+  bool rematch = true, settled = false;
+  for (int guard = 0; guard < 30 && !settled; ++guard) {
+    const bool fresh = rematch;
+    rematch = false;
+    if (fresh) {
+      prev.clear();
+      for (int iter = 0; iter < std::max(1, options_.refine_iterations); ++iter) {
+        match();
+        if (matches.size() < 2) break;
+        const WahbaSolution next = solveMatches({});
+        if (!next.ok) break;
+        sol = next;
+        const bool same = prev.size() == matches.size() &&
+                          std::equal(prev.begin(), prev.end(), matches.begin(),
+                                     [](const StarMatch& a, const StarMatch& b) {
+                                       return a.obs_index == b.obs_index &&
+                                              a.star_index == b.star_index;
+                                     });
+        if (same) break;
+        prev = matches;
+      }
+    }
+    // Residual test: 2 * loss ~ chi-square(2n - 3) (wahba.hpp, seed 004 eq. 6.18).
+    const int nm = static_cast<int>(matches.size());
+    if (nm < 2) break;
+    const Mat3 r_bi = sol.q_ib.toRotationMatrix().transpose();
+    double chi2 = 0, worst_z2 = -1;
+    std::size_t worst = 0;
+    for (std::size_t i = 0; i < matches.size(); ++i) {
+      const StarMatch& m = matches[i];
+      const Vec3& b = obs[m.obs_index].v_cam;
+      const double z2 = (b - r_bi * stars[m.star_index].u_i).squaredNorm() /
+                        (obs[m.obs_index].sigma * obs[m.obs_index].sigma);
+      chi2 += z2;
+      if (z2 > worst_z2) worst_z2 = z2, worst = i;
+    }
+    res.chi2 = chi2;
+    if (residual_test && nm >= 3 &&
+        chiSquareUpperTail(chi2, 2 * nm - 3) < options_.residual_alpha) {
+      if (nm - 1 < std::max(3, options_.min_matches)) {
+        residual_failed = true;
+        break;
+      }
+      // Exclude the worst star for good and re-solve without it.
+      excluded[matches[worst].obs_index] = 1;
+      matches.erase(matches.begin() + static_cast<long>(worst));
+      ++res.outliers_removed;
+      const WahbaSolution next = solveMatches({});
+      if (!next.ok) {
+        residual_failed = true;
+        break;
+      }
+      sol = next;
+      continue;
+    }
+    // The set was edited (outliers out, near misses in): match again at the new attitude.
+    if (!fresh) {
+      rematch = true;
+      continue;
+    }
+    // Near misses: fit them together with the matches (at most twice). A partial match (an
+    // attitude off in roll) then moves to the full one; a truly displaced star fails the
+    // residual test above and is excluded.
+    if (near_test && near_rounds < 2 && findNearMisses() > 0) {
+      ++near_rounds;
+      const WahbaSolution next = solveMatches(near);
+      if (next.ok) {
+        sol = next;
+        for (const auto& [k, j] : near) {
+          StarMatch mm;
+          mm.obs_index = k;
+          mm.star_index = pred[j].star;
+          mm.catalog_id = stars[pred[j].star].id;
+          matches.push_back(mm);
+        }
+        std::sort(matches.begin(), matches.end(),
+                  [](const StarMatch& a, const StarMatch& b) { return a.obs_index < b.obs_index; });
+        continue;
+      }
+    }
+    settled = true;
   }
+  if (!settled && !residual_failed && matches.size() >= 2 && residual_test)
+    residual_failed = true;  // never settled: do not trust it
 
   res.q_ib = canonical(sol.q_ib);
   res.cov_body = sol.cov_body;
@@ -182,7 +324,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   }
   res.matches = matches;
 
-  // False-match probability (model in verify.hpp).
+  // False-match probability (model in verify.hpp) of the final match set.
   const int n = std::max(0, n_obs - free_matches);
   const int m = std::max(0, static_cast<int>(matches.size()) - free_matches);
   double sum_p = 0;
@@ -191,6 +333,13 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   const double p_chance = n_obs > 0 ? sum_p / n_obs : 1.0;
   res.false_match_probability =
       std::min(1.0, std::max(1.0, attitudes_examined) * binomialUpperTail(n, m, p_chance));
+
+  // Near misses left after the refits (model in verify.hpp).
+  double near_tail = 1.0;
+  if (near_test && !matches.empty()) {
+    res.near_misses = findNearMisses();
+    near_tail = binomialUpperTail(n_unmatched, res.near_misses, near_p);
+  }
 
   if (!options_.enabled) {
     res.accepted = sol.ok;
@@ -202,10 +351,36 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
                  std::to_string(options_.min_matches) + ")";
     return res;
   }
+  char buf[200];
+  if (residual_failed) {
+    std::snprintf(buf, sizeof buf,
+                  "residuals inconsistent with the centroid covariances (chi2 %.3g for %zu "
+                  "stars after removing %d outliers)",
+                  res.chi2, matches.size(), res.outliers_removed);
+    res.reason = buf;
+    return res;
+  }
+  // Excluding stars one by one can carve a consistent subset out of any bad match; honest
+  // error situations have few stars outside tolerance (seed 003 Table 2: one or two), so
+  // more outliers than max_outlier_fraction of the kept matches (at least two) is a failure.
+  const int max_outliers = std::max(
+      2, static_cast<int>(options_.max_outlier_fraction * static_cast<double>(matches.size())));
+  if (res.outliers_removed > max_outliers) {
+    std::snprintf(buf, sizeof buf, "%d outliers removed from %zu matched stars (at most %d)",
+                  res.outliers_removed, matches.size(), max_outliers);
+    res.reason = buf;
+    return res;
+  }
   if (res.false_match_probability > options_.false_match_threshold) {
-    char buf[160];
     std::snprintf(buf, sizeof buf, "false-match probability %.3g above the threshold %.3g",
                   res.false_match_probability, options_.false_match_threshold);
+    res.reason = buf;
+    return res;
+  }
+  if (near_tail < options_.residual_alpha) {
+    std::snprintf(buf, sizeof buf,
+                  "partial match: %d unmatched stars lie just outside their gates (P %.3g)",
+                  res.near_misses, near_tail);
     res.reason = buf;
     return res;
   }

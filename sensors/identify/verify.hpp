@@ -17,6 +17,26 @@
 ///   A search that examined A candidate attitudes could meet such a coincidence A times, so
 ///   the reported probability is the union bound  P_false = min(1, A * P(X >= m)).
 ///   A hypothesis is accepted only when P_false <= false_match_threshold (default 1e-9).
+///   The probability is computed on the final match set of the refined attitude.
+///
+/// Residual test (after the final refinement). With the right identities and honest centroid
+/// covariances, 2 * loss = sum_k |b_k - R^T r_k|^2 / sigma_k^2 is chi-square with 2n - 3
+/// degrees of freedom (wahba.hpp). When its upper tail is below residual_alpha, the match
+/// set holds an outlier (a wrong pairing, or a star displaced beyond its covariance): the
+/// observation with the largest normalised residual is excluded, the match is redone from
+/// the re-solved attitude, and the test repeated while more than min_matches stars remain.
+/// A set that still fails is rejected: a "solved" attitude must be covered by its covariance.
+/// So is one that needed more than max(2, max_outlier_fraction * kept) exclusions: peeling
+/// can carve a consistent subset out of any bad match, honest frames have few outliers.
+///
+/// Near-miss test (match-count consistency). A partial match (an attitude a few arcminutes
+/// off in roll that fits the stars near the boresight) leaves unmatched observations lying
+/// just outside their gates next to unmatched predicted stars. Under the right attitude an
+/// unmatched observation (a false star, a star missing from the catalog) has an unmatched
+/// predicted star within near_miss_factor gate radii only by chance, with probability
+/// p_k = N_fov * pi * (f r_k)^2 / Omega_fov; the count of near misses X is bounded by
+/// Binomial(n_unmatched, mean p_k), and the hypothesis is rejected when P(X >= x) <
+/// residual_alpha.
 #pragma once
 #include <string>
 #include <vector>
@@ -39,6 +59,12 @@ struct VerifyOptions {
   int refine_iterations = 3;    ///< match / re-solve rounds
   double edge_margin_px = 0.0;  ///< predicted stars this close to the border are ignored
   bool enabled = true;          ///< false accepts every hypothesis (only for tests' teeth)
+  bool residual_test = true;    ///< chi-square test of the final residuals, outlier removal
+  bool near_miss_test = true;   ///< reject partial matches (unmatched stars just outside gates)
+  double residual_alpha = 1e-4; ///< false-alarm probability of either test per hypothesis
+  double near_miss_factor = 4.0;///< near-miss radius in gate radii
+  double max_outlier_fraction = 0.25;  ///< more outliers removed than this fraction of the
+                                       ///< kept matches (and more than 2) -> rejected
 };
 
 struct VerificationResult {
@@ -51,6 +77,9 @@ struct VerificationResult {
   double rms_residual = 0;      ///< [rad]
   double rms_residual_px = 0;   ///< [px]
   int predicted_in_fov = 0;     ///< catalog stars predicted in the image
+  double chi2 = 0;              ///< 2 * Wahba loss of the final match set (weights 1/sigma^2)
+  int outliers_removed = 0;     ///< observations excluded by the residual test
+  int near_misses = 0;          ///< unmatched observations next to an unmatched prediction
 };
 
 class Verifier {
@@ -88,5 +117,10 @@ class Verifier {
 
 /// Upper tail of the binomial distribution P(X >= m), X ~ Binomial(n, p).
 double binomialUpperTail(int n, int m, double p);
+
+/// Upper tail of the chi-square distribution P(X > x), X ~ chi-square(k), k >= 1 (exact for
+/// integer k: Q(1, x) = erfc(sqrt(x/2)), Q(2, x) = exp(-x/2) and the recurrence
+/// Q(k+2, x) = Q(k, x) + (x/2)^(k/2) exp(-x/2) / Gamma(k/2 + 1)).
+double chiSquareUpperTail(double x, int k);
 
 }  // namespace st

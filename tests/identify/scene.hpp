@@ -34,6 +34,9 @@ struct SceneParams {
   int false_min = 0, false_max = 3;
   double drop_fraction = 0.1;
   double mag_limit = 6.0;
+  double claimed_noise_px = -1;  ///< centroid covariance reported (< 0: the true noise_px)
+  int displaced = 0;             ///< true stars moved by displace_sigma * noise_px (random
+  double displace_sigma = 10.0;  ///< direction) without telling the covariance (seed 003)
 };
 
 inline Scene makeScene(std::mt19937_64& rng, const StarDatabase& db, const CameraModel& cam,
@@ -55,9 +58,19 @@ inline Scene makeScene(std::mt19937_64& rng, const StarDatabase& db, const Camer
     if (u01(rng) < p.drop_fraction) continue;
     Centroid c;
     c.px = *px + p.noise_px * Vec2(n01(rng), n01(rng));
-    c.cov_px = p.noise_px * p.noise_px * Mat2::Identity();
+    const double claimed = p.claimed_noise_px >= 0 ? p.claimed_noise_px : p.noise_px;
+    c.cov_px = claimed * claimed * Mat2::Identity();
     c.flux = 1e6 * std::pow(10.0, -0.4 * star.mag);
     items.push_back({star.mag, c, static_cast<int>(s)});
+  }
+  if (p.displaced > 0) {
+    std::vector<std::size_t> order(items.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int d = 0; d < std::min<int>(p.displaced, static_cast<int>(order.size())); ++d) {
+      const double a = 2 * 3.14159265358979 * u01(rng);
+      items[order[d]].c.px += p.displace_sigma * p.noise_px * Vec2(std::cos(a), std::sin(a));
+    }
   }
   const int n_false = std::uniform_int_distribution<int>(p.false_min, p.false_max)(rng);
   for (int f = 0; f < n_false; ++f) {
