@@ -103,6 +103,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   std::vector<int> best_pred(n_obs), best_obs;
   std::vector<double> gate_cos(n_obs), gate_rad(n_obs), best_dot(n_obs);
   std::vector<char> excluded(n_obs, 0), ambiguous(n_obs, 0);
+  std::vector<int> forced(n_obs, -1);  // near misses kept as matches: star per observation
   const double min_gate = options_.min_gate_px * camera_.pixelScale();
   WahbaSolution sol;
   sol.ok = true;
@@ -173,6 +174,26 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       m.catalog_id = stars[pred[j].star].id;
       matches.push_back(m);
     }
+    // Near misses that passed the residual test stay matched (a star just outside its gate
+    // would otherwise flip in and out between rounds).
+    bool added = false;
+    for (int k = 0; k < n_obs; ++k) {
+      if (forced[k] < 0 || excluded[k]) continue;
+      const uint32_t star = static_cast<uint32_t>(forced[k]);
+      const bool taken = std::any_of(matches.begin(), matches.end(), [&](const StarMatch& mm) {
+        return mm.obs_index == static_cast<uint32_t>(k) || mm.star_index == star;
+      });
+      if (taken) continue;
+      StarMatch m;
+      m.obs_index = k;
+      m.star_index = star;
+      m.catalog_id = stars[star].id;
+      matches.push_back(m);
+      added = true;
+    }
+    if (added)
+      std::sort(matches.begin(), matches.end(),
+                [](const StarMatch& a, const StarMatch& b) { return a.obs_index < b.obs_index; });
     res.predicted_in_fov = n_pred;
   };
 
@@ -182,7 +203,6 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
                              options_.scale_tolerance <= 0;
   const bool near_test = options_.enabled && options_.near_miss_test &&
                          options_.scale_tolerance <= 0;
-  int near_rounds = 0;
   // Unmatched, non-excluded observations whose nearest predicted star is unmatched and within
   // near_miss_factor gate radii: (observation, prediction) pairs; also sets near_p, the mean
   // chance probability of such a near miss (model in verify.hpp).
@@ -205,7 +225,16 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       const double r = options_.near_miss_factor * gate_rad[k];
       sum += std::min(1.0, n_pred_free * kPi * r * r / omega_fov_);
       const int j = best_pred[k];
-      if (j >= 0 && !pred_used[j] && best_dot[k] >= std::cos(r)) near.push_back({k, j});
+      if (j < 0 || pred_used[j] || forced[k] >= 0 || best_dot[k] < std::cos(r)) continue;
+      // Only an unambiguous near miss counts (and is fitted): no other predicted star near
+      // the observation, no other observation near the predicted star.
+      bool unique = true;
+      for (int jj = 0; jj < n_pred && unique; ++jj)
+        if (jj != j && obs[k].v_cam.dot(pred[jj].v_b) >= std::cos(r)) unique = false;
+      for (int kk = 0; kk < n_obs && unique; ++kk)
+        if (kk != k && !excluded[kk] && obs[kk].v_cam.dot(pred[j].v_b) >= std::cos(r))
+          unique = false;
+      if (unique) near.push_back({k, j});
     }
     near_p = n_unmatched > 0 ? sum / n_unmatched : 0.0;
     return static_cast<int>(near.size());
@@ -220,7 +249,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
     return solver_.solve(vo);
   };
   bool rematch = true, settled = false;
-  for (int guard = 0; guard < 30 && !settled; ++guard) {
+  for (int guard = 0; guard < 3 * n_obs + 10 && !settled; ++guard) {
     const bool fresh = rematch;
     rematch = false;
     if (fresh) {
@@ -279,15 +308,15 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       rematch = true;
       continue;
     }
-    // Near misses: fit them together with the matches (at most twice). A partial match (an
-    // attitude off in roll) then moves to the full one; a truly displaced star fails the
-    // residual test above and is excluded.
-    if (near_test && near_rounds < 2 && findNearMisses() > 0) {
-      ++near_rounds;
+    // Near misses: fit them together with the matches and keep them while they pass the
+    // residual test. A partial match (an attitude off in roll) then moves to the full one;
+    // a truly displaced star fails the residual test above and is excluded.
+    if (near_test && findNearMisses() > 0) {
       const WahbaSolution next = solveMatches(near);
       if (next.ok) {
         sol = next;
         for (const auto& [k, j] : near) {
+          forced[k] = static_cast<int>(pred[j].star);
           StarMatch mm;
           mm.obs_index = k;
           mm.star_index = pred[j].star;
@@ -328,8 +357,11 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   const int n = std::max(0, n_obs - free_matches);
   const int m = std::max(0, static_cast<int>(matches.size()) - free_matches);
   double sum_p = 0;
-  for (int k = 0; k < n_obs; ++k)
-    sum_p += std::min(1.0, res.predicted_in_fov * kPi * gate_rad[k] * gate_rad[k] / omega_fov_);
+  for (int k = 0; k < n_obs; ++k) {
+    // A kept near miss was accepted within near_miss_factor gate radii.
+    const double r = gate_rad[k] * (forced[k] >= 0 ? options_.near_miss_factor : 1.0);
+    sum_p += std::min(1.0, res.predicted_in_fov * kPi * r * r / omega_fov_);
+  }
   const double p_chance = n_obs > 0 ? sum_p / n_obs : 1.0;
   res.false_match_probability =
       std::min(1.0, std::max(1.0, attitudes_examined) * binomialUpperTail(n, m, p_chance));
