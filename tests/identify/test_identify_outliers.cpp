@@ -51,7 +51,8 @@ Count run(bool new_tests, const test::SceneParams& sp, int trials, uint64_t seed
       wrong |= sc.truth[m.obs_index] != static_cast<int>(m.star_index);
     if (wrong && std::getenv("ST_DEBUG_ID")) {
       int bad = 0;
-      for (const StarMatch& m : r.matches) bad += sc.truth[m.obs_index] != static_cast<int>(m.star_index);
+      for (const StarMatch& m : r.matches)
+        bad += sc.truth[m.obs_index] != static_cast<int>(m.star_index);
       std::printf("  WRONG trial %d: err %.1f\" sigma %.1f\" matched %zu of %zu, %d bad ids\n", k,
                   rad2arcsec(err), rad2arcsec(sigma), r.matches.size(), sc.centroids.size(), bad);
     }
