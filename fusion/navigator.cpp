@@ -132,7 +132,8 @@ TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg
   r.onlyKeys("navigator", {"reinit_after_rejections", "reorder_window_s", "gyro_gap_factor",
                            "camera_label", "gyro_label", "truth_label"});
   r.onlyKeys("pipeline",
-             {"lis_algorithm", "solver", "exposure_s", "min_sigma_px", "max_tracked_stars",
+             {"lis_algorithm", "solver", "exposure_s", "min_sigma_px", "tracking_min_sigma_px",
+              "max_tracked_stars",
               "min_tracked_stars", "gate_sigma", "edge_margin_px", "blend_separation_px",
               "loss_probability", "consistency_probability", "max_failed_frames",
               "gain_e_per_adu", "read_noise_adu", "threshold_sigma", "centroider",
@@ -170,6 +171,7 @@ TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg
   p.identify.solver = p.solver;
   p.exposure_s = r.num("pipeline", "exposure_s", p.exposure_s);
   p.min_sigma_px = r.num("pipeline", "min_sigma_px", p.min_sigma_px);
+  p.tracking_min_sigma_px = r.num("pipeline", "tracking_min_sigma_px", p.tracking_min_sigma_px);
   p.max_tracked_stars = r.integer("pipeline", "max_tracked_stars", p.max_tracked_stars);
   p.min_tracked_stars = r.integer("pipeline", "min_tracked_stars", p.min_tracked_stars);
   p.gate_sigma = r.num("pipeline", "gate_sigma", p.gate_sigma);

@@ -74,6 +74,7 @@ void PipelineOptions::validate() const {
   if (!(accel_sigma >= 0)) bad("accel_sigma", "must be >= 0");
   if (!(gyro_sigma >= 0)) bad("gyro_sigma", "must be >= 0");
   if (!(min_sigma_px > 0)) bad("min_sigma_px", "must be > 0");
+  if (!(tracking_min_sigma_px > 0)) bad("tracking_min_sigma_px", "must be > 0");
   std::string err;
   if (!detect.isValid(&err)) bad("detect", err);
 }
@@ -271,26 +272,40 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
   std::vector<const Candidate*> windowed;
   const double blend2 = opts_.blend_separation_px * opts_.blend_separation_px;
   const double sigma_c2 = std::pow(std::max(opts_.min_sigma_px, 0.1), 2);
+  // Blends: the centroid window of a star is a square of half-size 2.5 psf + blur/2 around
+  // its image's middle (centroidWindows), and another star's light reaches 3 psf beyond its
+  // own streak (o.px +- blur/2). A star is windowed only if no other catalog star's light
+  // falls into its window: for a streak that is a box of ~(blur + 6 psf) around it, not a
+  // fixed radius (streaks of neighbours overlap along the streak direction and pull the
+  // centre of gravity by flux ratio x distance). PSF sigma as the detector assumes it
+  // (star_detector.cpp's 1.2 px default when not given).
+  const double psf = opts_.detect.psf_sigma_px > 0 ? opts_.detect.psf_sigma_px : 1.2;
   for (Candidate& c : candidates_) {
     if (int(windows.size()) >= opts_.max_tracked_stars) break;
     if (!camera_.isPixelInImage(c.px, opts_.edge_margin_px)) continue;
+    // Error model: v_true = Exp(-dtheta) v = v + [v]x dtheta (R_true = R Exp(dtheta)), and
+    // over the exposure v(tau) = v + [v]x omega tau: same Jacobian for both.
+    const Eigen::Matrix<double, 3, 3> S = skew(c.v_cam);
+    c.H = projectionJacobian(camera_, c.v_cam) * S;
+    const Vec2 blur = c.H * pred.rate_cam * opts_.exposure_s;
+    const double hc = std::ceil(2.5 * psf + 0.5 * blur.norm());
+    const double reach_x = hc + 0.5 * std::abs(blur.x()) + 3.0 * psf;
+    const double reach_y = hc + 0.5 * std::abs(blur.y()) + 3.0 * psf;
     bool blended = false;
     for (const Candidate& o : candidates_) {
-      if (&o != &c && (o.px - c.px).squaredNorm() < blend2) {
+      if (&o == &c) continue;
+      const Vec2 d = o.px - c.px;
+      if (d.squaredNorm() < blend2 || (std::abs(d.x()) < reach_x && std::abs(d.y()) < reach_y)) {
         blended = true;
         break;
       }
     }
     if (blended) continue;
-    // Error model: v_true = Exp(-dtheta) v = v + [v]x dtheta (R_true = R Exp(dtheta)), and
-    // over the exposure v(tau) = v + [v]x omega tau: same Jacobian for both.
-    const Eigen::Matrix<double, 3, 3> S = skew(c.v_cam);
-    c.H = projectionJacobian(camera_, c.v_cam) * S;
     c.cov_att_px = c.H * pred.cov_cam * c.H.transpose();
     PredictedStar p;
     p.px = c.px;
     p.cov_px = c.cov_att_px + sigma_c2 * Mat2::Identity();
-    p.blur_px = c.H * pred.rate_cam * opts_.exposure_s;
+    p.blur_px = blur;
     windows.push_back(p);
     windowed.push_back(&c);
   }
@@ -356,70 +371,67 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
 
   // 5. Solve, then verify: loss chi-square (dropping the worst star while it fails) and
   //    consistency with the prediction.
-  const std::vector<StarObservation> sobs = toStarObservations(gated, camera_, opts_.min_sigma_px);
+  const double floor_px = opts_.tracking_min_sigma_px;
+  const std::vector<StarObservation> sobs = toStarObservations(gated, camera_, floor_px);
   std::vector<VectorObservation> vobs(sobs.size());
   for (std::size_t k = 0; k < sobs.size(); ++k) {
     vobs[k] = {sobs[k].v_cam, db_.stars()[gated_cand[k]->star_index].u_i, sobs[k].sigma};
   }
   std::vector<std::size_t> keep(sobs.size());
   for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = k;
+  // Solve, then refine with the full covariances. QUEST weighs each star with one isotropic
+  // sigma, but a streak's centroid error is several times larger along the streak than
+  // across it, and all streaks of a frame are parallel: the isotropic model misstates the
+  // attitude covariance (optimistic about the axis the streaks move along). Gauss-Newton on
+  // the pixel residuals d_k = c_k - pi(R^T r_k) with their 2x2 covariances C_k, where
+  // pi(R Exp(dth)^T r) = pi(R^T r) + H_k dth (H_k as for the windows):
+  //   dth = N^-1 sum H^T C^-1 d,  N = sum H^T C^-1 H,  covariance of the solution N^-1
+  // (the Fisher information of the pixel measurements). QUEST is the start; two steps
+  // converge. The loss test is then sum d^T C^-1 d ~ chi2(2n - 3) (2 dof per star, 3 for the
+  // attitude), the worst star removed while it fails.
+  const Mat2 floor2 = floor_px * floor_px * Mat2::Identity();
   WahbaSolution sol;
+  std::vector<double> e2(keep.size());
   for (;;) {
     sol = solver_->solve(vobs);
     if (!sol.ok) return fail("solver: " + sol.reason);
-    const double n = double(vobs.size());
-    // 2 loss ~ chi2(2n - 3) under the QMM (wahba.hpp).
-    if (2.0 * sol.loss <= chiSquareUpper(2.0 * n - 3.0, opts_.loss_probability)) break;
-    if (int(vobs.size()) <= opts_.min_tracked_stars) {
-      return fail("Wahba loss " + std::to_string(2.0 * sol.loss) + " too large for " +
-                  std::to_string(vobs.size()) + " stars");
-    }
-    const Mat3 R = sol.q_ib.toRotationMatrix();
-    std::size_t worst = 0;
-    double worst_e = -1;
-    for (std::size_t k = 0; k < vobs.size(); ++k) {
-      const double e = (vobs[k].b - R.transpose() * vobs[k].r).squaredNorm() /
-                       (vobs[k].sigma * vobs[k].sigma);
-      if (e > worst_e) {
-        worst_e = e;
-        worst = k;
-      }
-    }
-    vobs.erase(vobs.begin() + long(worst));
-    keep.erase(keep.begin() + long(worst));
-  }
-  // Full-covariance refinement: QUEST weighs each star with one isotropic sigma, but a
-  // streak's centroid error is several times larger along the streak than across it, and
-  // all streaks of a frame are parallel, so the isotropic model misstates the attitude
-  // covariance (optimistic about the axis the streaks move along). Gauss-Newton on the pixel
-  // residuals d_k = c_k - pi(R^T r_k) with their 2x2 covariances C_k, pi(R Exp(dth) ...) =
-  // pi(R ...) + H_k dth (H_k as for the windows): dth = N^-1 sum H^T C^-1 d,
-  // N = sum H^T C^-1 H, and the covariance of the solution is N^-1 (the Fisher information
-  // of the pixel measurements; the QUEST solution is the exact start, two steps converge).
-  {
-    const Mat2 floor2 = opts_.min_sigma_px * opts_.min_sigma_px * Mat2::Identity();
-    for (int it = 0; it < 2; ++it) {
+    double chi2 = 0;
+    for (int it = 0; it < 3; ++it) {
       const Mat3 R = sol.q_ib.toRotationMatrix();
       Mat3 N = Mat3::Zero();
       Vec3 g = Vec3::Zero();
-      bool ok = true;
-      for (std::size_t k : keep) {
+      chi2 = 0;
+      for (std::size_t j = 0; j < keep.size(); ++j) {
+        const std::size_t k = keep[j];
         const Vec3 v = R.transpose() * db_.stars()[gated_cand[k]->star_index].u_i;
         const auto px = camera_.vectorToPixel(v);
-        if (!px) {
-          ok = false;
-          break;
-        }
+        if (!px) return fail("a matched star projects outside the camera");
         const Eigen::Matrix<double, 2, 3> H = projectionJacobian(camera_, v) * skew(v);
         const Mat2 Ci = (gated[k].cov_px + floor2).inverse();
+        const Vec2 d = gated[k].px - *px;
         N += H.transpose() * Ci * H;
-        g += H.transpose() * Ci * (gated[k].px - *px);
+        g += H.transpose() * Ci * d;
+        e2[j] = d.dot(Ci * d);
+        chi2 += e2[j];
       }
+      if (it == 2) break;  // the last pass only evaluates the residuals
       const Eigen::LDLT<Mat3> ldlt(N);
-      if (!ok || ldlt.info() != Eigen::Success || !(N.determinant() > 0)) break;
+      if (ldlt.info() != Eigen::Success || !(N.determinant() > 0)) {
+        return fail("degenerate star geometry");
+      }
       sol.q_ib = canonical(sol.q_ib * quatExp(ldlt.solve(g)));
       sol.cov_body = N.inverse();
     }
+    const double n = double(keep.size());
+    if (chi2 <= chiSquareUpper(2.0 * n - 3.0, opts_.loss_probability)) break;
+    if (int(keep.size()) <= opts_.min_tracked_stars) {
+      return fail("residual chi2 " + std::to_string(chi2) + " too large for " +
+                  std::to_string(keep.size()) + " stars");
+    }
+    const std::size_t worst =
+        std::size_t(std::max_element(e2.begin(), e2.begin() + long(keep.size())) - e2.begin());
+    vobs.erase(vobs.begin() + long(worst));
+    keep.erase(keep.begin() + long(worst));
   }
   const Vec3 innov = quatLog(pred.q_ic.conjugate() * sol.q_ib);
   const Mat3 Sinn = pred.cov_cam + sol.cov_body;

@@ -18,7 +18,9 @@
 ///         both covariances sigma^2 I this is |d| <= 3 sqrt(2) sigma (seed 002 step 5) for the
 ///         default gate_sigma = 3;
 ///      4. Wahba solve ("quest" by default) over the gated stars;
-///      5. verification: chi-square test of the Wahba loss (2 loss ~ chi2(2n-3), the worst
+///      5. refinement with each centroid's full 2x2 covariance (Gauss-Newton on the pixel
+///         residuals from the Wahba solution; covariance = inverse Fisher information);
+///         verification: chi-square test of the residuals (~ chi2(2n-3), the worst
 ///         star removed while it fails), at least min_tracked_stars stars, and the solved
 ///         attitude consistent with the prediction (chi2(3) on Log(q_pred^-1 q_sol) with
 ///         P_pred + P_sol).
@@ -69,12 +71,16 @@ struct PipelineOptions {
   std::string lis_algorithm = "pyramid";  ///< sensors/identify registry name
   IdentifyOptions identify;               ///< identify.solver is the Wahba solver of LIS
   DetectorOptions detect;                 ///< full-frame and window detection
-  /// [px] floor of a centroid's sigma (toStarObservations and the tracking refinement).
-  /// The centroid covariances are now consistent down to ~0.004 px (bright stars), so this
-  /// 0.02 px floor makes bright-star fixes pessimistic; lowering it needs the lost-in-space
-  /// verification (sensors/identify) to accept the tighter gates first (it rejects the
-  /// Orion frames at 0.001 px).
+  /// [px] floor of a centroid's sigma for lost-in-space (toStarObservations): the
+  /// identification's gates and its fix covariance. Pessimistic for bright stars (their
+  /// centroid sigma is ~0.004-0.01 px) but it only matters for the first frame.
   double min_sigma_px = 0.02;
+  /// [px] floor of a centroid's sigma while tracking: only a guard against a zero
+  /// covariance, so below the Cramer-Rao bound of the best centroid, sigma_psf /
+  /// sqrt(electrons) = 1 / sqrt(1.4e5) = 0.0027 px for the brightest unsaturated star of a
+  /// 20,000 e- full well (14.7 % of a sigma = 1 px PSF in the peak pixel). A floor above the
+  /// bound (0.02 px before) makes the tracking fixes of bright stars ~3x pessimistic.
+  double tracking_min_sigma_px = 0.001;
 
   // --- tracking ---
   std::string solver = "quest";   ///< Wahba solver while tracking

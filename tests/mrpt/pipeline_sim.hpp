@@ -68,9 +68,6 @@ inline PipelineOptions simPipelineOptions() {
   o.exposure_s = s.exposure_s;
   o.detect.gain_e_per_adu = s.gain();
   o.detect.read_noise_adu = s.read_noise_e / s.gain();
-  // A 12-bit image lives in a 16-bit Mat: without this, clipped pixels (maxAdu) of the
-  // brightest stars are fitted as if they were measurements.
-  o.detect.saturation_adu = s.maxAdu();
   return o;
 }
 
