@@ -219,6 +219,13 @@ DetectionResult measureBlobs(const cv::Mat& grey, const BackgroundModel& bg,
   return res;
 }
 
+// Square root of the largest eigenvalue of the symmetric part of a 2x2 covariance.
+double largestSigma(const Mat2& cov) {
+  const double a = cov(0, 0), d = cov(1, 1), c = 0.5 * (cov(0, 1) + cov(1, 0));
+  const double lmax = 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + c * c);
+  return std::sqrt(std::max(lmax, 0.0));
+}
+
 // One predictive window (seed 004 §4.2.3): background from the window's border ring, the
 // brightest pixel inside, and the centroid in a PSF-sized window around it.
 template <typename T>
@@ -293,7 +300,13 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
   cv::Point centre = pk;
   int area = 0;
   Moments mom;
-  if (streak) {
+  // A tight prediction (tracking with a gyro) places a streak's middle better than its
+  // pixels do: a faint streak breaks into fragments above the threshold, and the moments of
+  // one fragment put the window on one end of the streak.
+  const bool trust_prediction = streak && 3.0 * largestSigma(p.cov_px) <= psf0 + 0.25 * blur;
+  if (trust_prediction) {
+    centre = {cx, cy};
+  } else if (streak) {
     const int hs = static_cast<int>(std::ceil(2.5 * psf0 + blur));
     thresholdMoments(cv::Rect(pk.x - hs, pk.y - hs, 2 * hs + 1, 2 * hs + 1) & win, area, mom);
     if (mom.sw > 0)
@@ -398,11 +411,7 @@ DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts) {
 }
 
 int windowHalfSize(const PredictedStar& p, const DetectorOptions& opts) {
-  // Largest eigenvalue of the symmetric part of the 2x2 covariance, in closed form.
-  const double a = p.cov_px(0, 0), d = p.cov_px(1, 1);
-  const double c = 0.5 * (p.cov_px(0, 1) + p.cov_px(1, 0));
-  const double lmax = 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + c * c);
-  const double sd = std::sqrt(std::max(lmax, 0.0));
+  const double sd = largestSigma(p.cov_px);
   const double psf = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
   const double h = opts.window_sigmas * sd + 3.0 * psf + 0.5 * p.blur_px.norm();
   if (!std::isfinite(h)) return opts.max_window_half_px;
