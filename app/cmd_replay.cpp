@@ -211,8 +211,9 @@ int runReplay(const ReplayOpts& o) {
   // ---- summary ----
   const auto& steps = nav.steps();
   int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
+  long matched_with_truth = 0, misidentified = 0, blend_claims = 0;
   double frame_time = 0;
-  std::vector<double> cross, roll, nees, fix_err, filt_err;
+  std::vector<double> cross, roll, nees, fix_err, filt_err, fix_nees;
   for (const NavStep& s : steps) {
     if (s.has_frame) {
       ++frames;
@@ -229,7 +230,13 @@ int runReplay(const ReplayOpts& o) {
       if (s.fix) {
         fix_err.push_back(rad2arcsec(s.fix_error.total));
         filt_err.push_back(rad2arcsec(s.error.total));
+        fix_nees.push_back(s.fix_nees);
       }
+    }
+    if (s.has_truth && s.fix) {
+      matched_with_truth += s.stars_matched;
+      misidentified += s.misidentified;
+      blend_claims += s.blend_claims;
     }
   }
   std::printf("%s: %zu observations, camera %s\n", o.rawlog.c_str(), obs.size(),
@@ -256,8 +263,25 @@ int runReplay(const ReplayOpts& o) {
       std::printf("  total, frames with a fix: filter RMS %.2f, raw fixes RMS %.2f\n",
                   rms(filt_err), rms(fix_err));
     }
-    std::printf("  mean NEES %.3f (3 dof; 95 %% band for independent steps [%.3f, %.3f]: %s)\n",
+    std::printf("  filter: mean NEES %.3f (3 dof; 95 %% band for independent steps [%.3f, %.3f]: "
+                "%s; consecutive filter steps are correlated)\n",
                 mean_nees, band.lo, band.hi, band.contains(mean_nees) ? "inside" : "outside");
+    if (!fix_nees.empty()) {
+      // Raw fixes are (nearly) independent frame to frame: the fraction of NEES values below
+      // the chi2(3) 95 % point is the portable consistency check (0.95 when consistent).
+      const double q95 = chiSquareQuantile(0.95, 3);
+      const auto below = std::count_if(fix_nees.begin(), fix_nees.end(),
+                                       [&](double v) { return v <= q95; });
+      std::printf("  raw fixes: median NEES %.3f (chi2(3) median 2.366), %.1f %% below the "
+                  "chi2(3) 95 %% point\n",
+                  percentile(fix_nees, 0.5), 100.0 * double(below) / double(fix_nees.size()));
+    }
+    if (matched_with_truth > 0) {
+      std::printf("  identification: %ld matched stars, %ld misidentified (claimed star not "
+                  "the true star nearest to the centroid), %ld named after the other member of "
+                  "an unresolved pair\n",
+                  matched_with_truth, misidentified, blend_claims);
+    }
   }
 
   if (!o.csv.empty()) {

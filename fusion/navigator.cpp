@@ -240,7 +240,7 @@ std::string navStepCsvHeader() {
          "innov_x_arcsec,innov_y_arcsec,innov_z_arcsec,innov_sigma_x_arcsec,"
          "innov_sigma_y_arcsec,innov_sigma_z_arcsec,nis,nis_dof,has_truth,err_arcsec,"
          "err_cross_arcsec,err_roll_arcsec,nees,fix_err_arcsec,sigma_cross_arcsec,"
-         "sigma_roll_arcsec";
+         "sigma_roll_arcsec,fix_nees,misidentified,blend_claims";
 }
 
 std::string navStepCsvRow(const NavStep& s) {
@@ -268,6 +268,7 @@ std::string navStepCsvRow(const NavStep& s) {
     << (s.fix && s.has_truth ? rad2arcsec(s.fix_error.total) : 0.0);
   const AttitudeSigma sg = attitudeSigma(s.P_att);
   o << ',' << rad2arcsec(sg.cross_boresight) << ',' << rad2arcsec(sg.roll);
+  o << ',' << (s.fix && s.has_truth ? s.fix_nees : 0.0) << ',' << s.misidentified << ',' << s.blend_claims;
   return o.str();
 }
 
@@ -583,6 +584,31 @@ void Navigator::onCamera(const mrpt::obs::CObservation& obs, double t) {
   pending_obs_ = st;
 }
 
+namespace {
+/// Scores the sensor's identities against the truth's star list (NavStep::misidentified,
+/// NavStep::blend_claims). Two true stars closer than `unresolved_px` make one image peak
+/// (two Gaussian PSFs of sigma s merge below ~2 s); the database merges such doubles under
+/// the brighter member's id, so naming either member of the pair is right.
+void scoreIdentities(const CObservationStarTracker& st, const FrameTruth& truth,
+                     double unresolved_px, NavStep& s) {
+  for (const MatchedStar& m : st.stars) {
+    const TrueStar* nearest = nullptr;
+    const TrueStar* claimed = nullptr;
+    for (const TrueStar& t : truth.stars) {
+      if (!nearest || (t.px - m.px).squaredNorm() < (nearest->px - m.px).squaredNorm())
+        nearest = &t;
+      if (t.id == m.catalog_id) claimed = &t;
+    }
+    if (claimed == nearest) continue;
+    if (claimed && (claimed->px - nearest->px).norm() < unresolved_px) {
+      ++s.blend_claims;
+    } else {
+      ++s.misidentified;
+    }
+  }
+}
+}  // namespace
+
 void Navigator::onTruth(const mrpt::obs::CObservation& obs, double t) {
   const FrameTruth truth =
       truthFromObservation(static_cast<const mrpt::obs::CObservation6DFeatures&>(obs));
@@ -602,7 +628,15 @@ void Navigator::onTruth(const mrpt::obs::CObservation& obs, double t) {
     s.error = attitudeError(s.q_ib, s.q_true);
     s.nees = attitudeNees(s.q_ib, s.P_att, s.q_true);
   }
-  if (s.fix) s.fix_error = attitudeError(s.q_fix, s.q_true);
+  if (s.fix) {
+    s.fix_error = attitudeError(s.q_fix, s.q_true);
+    s.fix_nees = attitudeNees(s.q_fix, s.cov_fix, s.q_true);
+  }
+  if (pending_obs_ && !truth.stars.empty()) {
+    const double psf = opts_.pipeline.detect.psf_sigma_px > 0 ? opts_.pipeline.detect.psf_sigma_px
+                                                              : 1.0;
+    scoreIdentities(*pending_obs_, truth, 2.0 * psf, s);
+  }
   finishPending();
 }
 

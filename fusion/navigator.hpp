@@ -141,6 +141,14 @@ struct NavStep {
   AttitudeError error;          ///< filter estimate vs truth
   double nees = 0;              ///< attitude NEES, 3 dof
   AttitudeError fix_error;      ///< raw fix vs truth (fix && has_truth)
+  double fix_nees = 0;          ///< raw fix NEES with its own covariance, 3 dof
+  /// Matched stars whose identity the truth's star list contradicts: the claimed star is
+  /// not in the frame, or another true star lies nearer to the centroid and is resolved
+  /// from it (fix && the truth lists stars).
+  int misidentified = 0;
+  /// Matched stars named after one member of an unresolved pair (< 2 PSF sigma apart) while
+  /// the other member is nearer to the centroid: one image peak, either name is right.
+  int blend_claims = 0;
 };
 
 /// CSV of the steps: header line and one row (t in seconds from t0).

@@ -86,8 +86,13 @@ std::optional<AttitudePrediction> LiveFilter::predict(mrpt::Clock::time_point t)
   // buffer are already known: propagate a copy through them so that the prediction is not an
   // extrapolation of a single noisy sample over the whole window (ARW per 100 Hz sample is
   // ~90 arcsec/s for a 0.15 deg/sqrt(h) gyro).
+  // The rate handed on (the streak length, the acceleration) is the mean of the samples of
+  // the last kRateWindowS: one sample carries the full white rate noise.
+  constexpr double kRateWindowS = 0.1;
   AttitudeMekf ahead = filter_;
-  Vec3 rate = last_rate_;
+  Vec3 rate = last_rate_, rate_sum = Vec3::Zero();
+  int rate_n = 0;
+  const double t_s = seconds(t);
   for (const auto& [ts, o] : buffer_) {
     if (ts > t) break;
     const auto* imu = dynamic_cast<const mrpt::obs::CObservationIMU*>(o.get());
@@ -96,12 +101,16 @@ std::optional<AttitudePrediction> LiveFilter::predict(mrpt::Clock::time_point t)
     rate = Vec3(imu->get(IMU_WX), imu->get(IMU_WY), imu->get(IMU_WZ));
     const double ti = seconds(ts);
     if (ti > ahead.time()) ahead.propagate(rate, ti);
+    if (ti > t_s - kRateWindowS) {
+      rate_sum += rate;
+      ++rate_n;
+    }
   }
-  const MekfPrediction p = ahead.predictAt(seconds(t));
+  const MekfPrediction p = ahead.predictAt(t_s);
   AttitudePrediction out;
   out.q_ib = p.q_ib;
   out.cov_body = p.attitudeCov();
-  out.rate_body = rate - p.bias;
+  out.rate_body = (rate_n > 0 ? Vec3(rate_sum / rate_n) : rate) - p.bias;
   return out;
 }
 

@@ -307,38 +307,58 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
   if (trust_prediction) {
     centre = {cx, cy};
   } else if (streak) {
+    const cv::Point anchor = p.anchor_at_px ? cv::Point(cx, cy) : pk;
     const int hs = static_cast<int>(std::ceil(2.5 * psf0 + blur));
-    thresholdMoments(cv::Rect(pk.x - hs, pk.y - hs, 2 * hs + 1, 2 * hs + 1) & win, area, mom);
+    thresholdMoments(cv::Rect(anchor.x - hs, anchor.y - hs, 2 * hs + 1, 2 * hs + 1) & win, area,
+                     mom);
     if (mom.sw > 0)
       centre = {static_cast<int>(std::lround(mom.sx / mom.sw)),
                 static_cast<int>(std::lround(mom.sy / mom.sw))};
   }
   const int hc = static_cast<int>(std::ceil(2.5 * psf0 + 0.5 * blur));
-  const cv::Rect full(centre.x - hc, centre.y - hc, 2 * hc + 1, 2 * hc + 1);
-  const cv::Rect cw = full & win;
-  uint32_t flags = 0;
-  if (peak >= sat) flags |= kSaturated;
-  if ((full & frame).area() != full.area()) flags |= kTouchesEdge;
-  thresholdMoments(cw, area, mom);
-  double elong = 1, psf = 0;
-  mom.shape(elong, psf);
-  if (elong > opts.max_elongation) flags |= kElongated;
-  if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
-  psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
-  StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
-  // Variance of the ring median: pi/2 sigma^2 / n for Gaussian noise.
-  patch.background_var = 0.5 * M_PI * sb * sb / static_cast<double>(ring.size());
-  // A streak is not a round PSF: the plain CoG measures its middle.
-  const Centroider& c = streak ? cog : main;
-  Centroid star;
-  std::string reason;
-  if (!measure(c, cog, patch, star, &reason)) {
-    w.reason = "not found: " + reason;
-    return;
+  const Centroider& c = streak ? cog : main;  // a streak is not a round PSF: the CoG
+                                              // measures its middle
+  // A window off the streak's middle cuts the streak and pulls the CoG towards the window's
+  // centre; re-centring on the last CoG converges to the middle (a few rounds for a streak
+  // located from a fragment; a tight prediction needs none).
+  const int rounds = streak && !trust_prediction ? 3 : 1;
+  for (int round = 0; round < rounds; ++round) {
+    const cv::Rect full(centre.x - hc, centre.y - hc, 2 * hc + 1, 2 * hc + 1);
+    const cv::Rect cw = full & win;
+    uint32_t flags = 0;
+    if (peak >= sat) flags |= kSaturated;
+    if ((full & frame).area() != full.area()) flags |= kTouchesEdge;
+    thresholdMoments(cw, area, mom);
+    double elong = 1, psf = 0;
+    mom.shape(elong, psf);
+    if (elong > opts.max_elongation) flags |= kElongated;
+    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
+    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+    // Variance of the ring median: pi/2 sigma^2 / n for Gaussian noise.
+    patch.background_var = 0.5 * M_PI * sb * sb / static_cast<double>(ring.size());
+    Centroid star;
+    std::string reason;
+    if (!measure(c, cog, patch, star, &reason)) {
+      if (round > 0) break;  // keep the last round's centroid
+      w.reason = "not found: " + reason;
+      return;
+    }
+    // One pixel above the threshold is not a star: the window's integrated flux must be as
+    // significant as a detection (a faint streak spreads below it; its CoG is noise).
+    if (star.snr < opts.threshold_sigma) {
+      w.reason = "below threshold: SNR " + std::to_string(star.snr);
+      w.centroid.reset();
+      return;
+    }
+    star.area = area;
+    star.flags = flags;
+    w.centroid = star;
+    const cv::Point next(static_cast<int>(std::lround(star.px.x())),
+                         static_cast<int>(std::lround(star.px.y())));
+    if (next == centre) break;
+    centre = next;
   }
-  star.area = area;
-  star.flags = flags;
-  w.centroid = star;
 }
 
 }  // namespace

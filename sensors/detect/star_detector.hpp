@@ -41,6 +41,10 @@ struct PredictedStar {
   Vec2 px = Vec2::Zero();
   Mat2 cov_px = Mat2::Identity();
   Vec2 blur_px = Vec2::Zero();
+  /// The streak's middle is searched around `px` (a point known to lie on this star's
+  /// streak, e.g. a fragment found by full-frame detection) instead of around the brightest
+  /// pixel of the window, which may belong to another star.
+  bool anchor_at_px = false;
 };
 /// One per predicted star: the centroid or why not ("outside image", "below threshold",
 /// "not found: ...").

@@ -104,6 +104,7 @@ void StarTrackerPipeline::reset() {
   prev_.reset();
   external_.reset();
   gyro_rate_body_.reset();
+  last_rate_.reset();
   failed_frames_ = 0;
   lost_ = true;
 }
@@ -171,10 +172,14 @@ CObservationStarTracker::Ptr StarTrackerPipeline::process(const cv::Mat& image,
   out->sensorLabel = opts_.sensor_label;
   out->sensor_pose = opts_.sensor_pose;
 
+  std::optional<Vec3> rate_cam;
+  if (gyro_rate_body_) rate_cam = R_bc_.transpose() * *gyro_rate_body_;
+  if (external_) rate_cam = R_bc_.transpose() * external_->rate_body;
   const auto pred = predictionFor(t);
   Fix fix;
   if (pred) {
     if (track(image, *pred, *out, fix)) {
+      correctForAcceleration(rate_cam, t, *out, fix);
       out->mode = StarTrackerMode::kTracking;
       failed_frames_ = 0;
       prev_ = last_;
@@ -190,7 +195,8 @@ CObservationStarTracker::Ptr StarTrackerPipeline::process(const cv::Mat& image,
   } else {
     // No usable prediction: lost-in-space. The previous fix stays as the rate partner only if
     // it is recent enough to be the frame before.
-    if (lostInSpace(image, *out, fix)) {
+    if (lostInSpace(image, rate_cam, *out, fix)) {
+      correctForAcceleration(rate_cam, t, *out, fix);
       out->mode = StarTrackerMode::kLostInSpace;
       failed_frames_ = 0;
       lost_ = false;
@@ -205,14 +211,83 @@ CObservationStarTracker::Ptr StarTrackerPipeline::process(const cv::Mat& image,
       reset();
     }
   }
+  if (rate_cam) {
+    last_rate_ = TimedRate{t, *rate_cam};
+  } else {
+    last_rate_.reset();
+  }
   out->timings.total = seconds(t0, Clock::now());
   return out;
 }
 
-bool StarTrackerPipeline::lostInSpace(const cv::Mat& image, CObservationStarTracker& out,
-                                      Fix& fix) {
+void StarTrackerPipeline::correctForAcceleration(const std::optional<Vec3>& rate_cam,
+                                                 mrpt::Clock::time_point t,
+                                                 CObservationStarTracker& out, Fix& fix) {
+  if (!rate_cam || !last_rate_ || !(opts_.exposure_s > 0)) return;
+  const double dt = mrpt::system::timeDifference(last_rate_->t, t);
+  if (!(dt > 0) || dt > opts_.max_propagation_s) return;
+  // theta(tau) = w tau + a tau^2 / 2 about mid-exposure; its mean over the exposure T is
+  // a T^2 / 24, the rotation of the fix (q_ic(mean) = q_ic(mid) Exp(a T^2 / 24)). Each rate
+  // carries gyro_sigma, so a has 2 gyro_sigma^2 / dt^2 per axis.
+  const Vec3 accel = (*rate_cam - last_rate_->rate_cam) / dt;
+  // Only an acceleration the rates resolve (3 sigma of their noise) is corrected for: below
+  // that the correction would be mostly noise, and the bias it removes is below the noise
+  // of the rates too.
+  const double accel_sigma = std::sqrt(2.0) * opts_.gyro_sigma / dt;
+  if (accel.norm() < 3.0 * accel_sigma) return;
+  const double k = opts_.exposure_s * opts_.exposure_s / 24.0;
+  fix.q_ic = canonical(fix.q_ic * quatExp(-k * accel));
+  fix.cov_cam += 2.0 * std::pow(k * opts_.gyro_sigma / dt, 2) * Mat3::Identity();
+  setAttitude(out, fix.q_ic, fix.cov_cam);
+}
+
+void StarTrackerPipeline::measureStreaks(const cv::Mat& image, const Vec3& rate_cam,
+                                         std::vector<Centroid>& stars) const {
+  const double psf = opts_.detect.psf_sigma_px > 0 ? opts_.detect.psf_sigma_px : 1.0;
+  std::vector<PredictedStar> streaks;
+  std::vector<std::size_t> index;
+  for (std::size_t k = 0; k < stars.size(); ++k) {
+    const Vec3 v = camera_.pixelToVector(stars[k].px);
+    const Vec2 blur = projectionJacobian(camera_, v) * skew(v) * rate_cam * opts_.exposure_s;
+    if (blur.norm() <= 2.0 * psf) continue;
+    // The centroid of a fragment lies on the streak, at most half its length from the
+    // middle: the window (5 sigma + 3 psf + blur/2) then holds the whole streak.
+    PredictedStar p;
+    p.px = stars[k].px;
+    p.cov_px = std::pow(0.25 * blur.norm(), 2) * Mat2::Identity();
+    p.blur_px = blur;
+    p.anchor_at_px = true;
+    streaks.push_back(p);
+    index.push_back(k);
+  }
+  if (streaks.empty()) return;
+  const std::vector<WindowResult> found = centroidWindows(image, streaks, opts_.detect);
+  std::vector<bool> drop(stars.size(), false);
+  for (std::size_t j = 0; j < found.size(); ++j) {
+    if (found[j].centroid) {
+      stars[index[j]] = *found[j].centroid;
+    } else {
+      drop[index[j]] = true;  // no streak around this blob (noise, a hot pixel)
+    }
+  }
+  // Fragments of one streak now share one centroid: keep the first (brightest) of each.
+  std::vector<Centroid> kept;
+  for (std::size_t k = 0; k < stars.size(); ++k) {
+    if (drop[k]) continue;
+    bool dup = false;
+    for (const Centroid& o : kept)
+      dup = dup || (o.px - stars[k].px).norm() < 2.0 * psf;
+    if (!dup) kept.push_back(stars[k]);
+  }
+  stars = std::move(kept);
+}
+
+bool StarTrackerPipeline::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
+                                      CObservationStarTracker& out, Fix& fix) {
   const auto t0 = Clock::now();
-  const DetectionResult det = detectStars(image, opts_.detect);
+  DetectionResult det = detectStars(image, opts_.detect);
+  if (rate_cam && opts_.exposure_s > 0 && det.reason.empty())
+    measureStreaks(image, *rate_cam, det.stars);
   out.timings.detect = seconds(t0, Clock::now());
   out.num_blobs = det.blobs_found;
   if (!det.reason.empty()) {

@@ -153,8 +153,18 @@ class StarTrackerPipeline {
   std::optional<Prediction> predictionFor(mrpt::Clock::time_point t);
   bool track(const cv::Mat& image, const Prediction& pred, CObservationStarTracker& out,
              Fix& fix);
-  bool lostInSpace(const cv::Mat& image, CObservationStarTracker& out, Fix& fix);
+  /// `rate_cam`: the body rate (camera frame) when a gyro gave one, to measure streaks whole.
+  bool lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
+                   CObservationStarTracker& out, Fix& fix);
+  /// Full-frame centroids of streaks re-measured over the whole streak the rate draws
+  /// (fragments of a faint streak merged); round stars untouched.
+  void measureStreaks(const cv::Mat& image, const Vec3& rate_cam,
+                      std::vector<Centroid>& stars) const;
   void setAttitude(CObservationStarTracker& out, const Quat& q_ic, const Mat3& cov_cam) const;
+  /// Under an angular acceleration the stars' streak centroids are their exposure-mean
+  /// positions, not their mid-exposure ones: corrects the fix to mid-exposure.
+  void correctForAcceleration(const std::optional<Vec3>& rate_cam, mrpt::Clock::time_point t,
+                              CObservationStarTracker& out, Fix& fix);
 
   const StarDatabase& db_;
   CameraModel camera_;
@@ -167,6 +177,13 @@ class StarTrackerPipeline {
   std::optional<Fix> last_, prev_;
   std::optional<AttitudePrediction> external_;
   std::optional<Vec3> gyro_rate_body_;
+  /// The last frame's body rate (camera frame) from a gyro or a prediction: with this
+  /// frame's it gives the angular acceleration, whose streak bias the fix is corrected for.
+  struct TimedRate {
+    mrpt::Clock::time_point t;
+    Vec3 rate_cam;
+  };
+  std::optional<TimedRate> last_rate_;
   int failed_frames_ = 0;
   bool lost_ = true;
 
