@@ -536,6 +536,10 @@ void Navigator::onCamera(const mrpt::obs::CObservation& obs, double t) {
     ap.cov_body = pred.attitudeCov();
     ap.rate_body = recentMeanRate() - pred.bias;
     pipeline_->setPrediction(ap);
+  } else if (recent_next_ > 0 && !gyroStale(t)) {
+    // No attitude yet, but the gyro's rate tells lost-in-space how the stars streak (the
+    // unknown bias, a few deg/h, is nothing next to a streak).
+    pipeline_->setGyroRate(recentMeanRate());
   }
   CObservationStarTracker::Ptr st = pipeline_->process(image, obs.timestamp);
   if (io.image.isExternallyStored()) io.image.unload();
