@@ -5,14 +5,73 @@
 
 namespace st::detail {
 
+namespace {
+
+// Flat weights (CoG) in one pass: with d_i = p_i - x the sums of the header expand into raw
+// moments in window coordinates (small numbers, no cancellation), accumulated per row.
+bool flatCentroid(const StarPatch& patch, Centroid& out, std::string* reason) {
+  const cv::Mat1f& v = patch.values;
+  const double b = patch.background, var0 = patch.sigma_bg * patch.sigma_bg;
+  const double inv_gain = 1.0 / patch.gain;
+  double S0 = 0, Sx = 0, Sy = 0;                        // sum s, s c, s r
+  double V0 = 0, Vx = 0, Vy = 0, Vxx = 0, Vxy = 0, Vyy = 0;  // sum var * (1, c, r, c^2, c r, r^2)
+  double peak = -1e300;
+  for (int r = 0; r < v.rows; ++r) {
+    const float* row = v[r];
+    double s0 = 0, sx = 0, v0 = 0, vx = 0, vxx = 0;
+    for (int c = 0; c < v.cols; ++c) {
+      const double s = row[c] - b;
+      const double var = var0 + std::max(s, 0.0) * inv_gain;  // StarPatch::variance
+      s0 += s;
+      sx += s * c;
+      v0 += var;
+      vx += var * c;
+      vxx += var * c * c;
+      peak = std::max(peak, s);
+    }
+    S0 += s0;
+    Sx += sx;
+    Sy += s0 * r;
+    V0 += v0;
+    Vx += vx;
+    Vy += v0 * r;
+    Vxx += vxx;
+    Vxy += vx * r;
+    Vyy += v0 * r * r;
+  }
+  if (!(S0 > 0)) {
+    if (reason) *reason = "no flux above background";
+    return false;
+  }
+  const double cx = Sx / S0, cy = Sy / S0;  // window coordinates
+  if (cx < -0.5 || cy < -0.5 || cx > v.cols - 0.5 || cy > v.rows - 0.5) {
+    if (reason) *reason = "centroid left the window";
+    return false;
+  }
+  // M = sum var d d^T with d = (c - cx, r - cy); J = -S0 I; Gd = sum d.
+  Mat2 M;
+  M(0, 0) = Vxx - 2 * cx * Vx + cx * cx * V0;
+  M(1, 1) = Vyy - 2 * cy * Vy + cy * cy * V0;
+  M(0, 1) = M(1, 0) = Vxy - cx * Vy - cy * Vx + cx * cy * V0;
+  const double n = static_cast<double>(v.rows) * v.cols;
+  const Vec2 Gd(n * (0.5 * (v.cols - 1) - cx), n * (0.5 * (v.rows - 1) - cy));
+  out.px = Vec2(patch.origin.x + cx, patch.origin.y + cy);
+  out.cov_px = (M + patch.background_var * Gd * Gd.transpose()) / (S0 * S0);
+  out.flux = S0;
+  out.peak = peak;
+  out.snr = S0 / std::sqrt(std::max(V0, 1e-300));
+  return true;
+}
+
+}  // namespace
+
 bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_sigma,
                       int max_iter, Centroid& out, std::string* reason) {
+  if (weight_sigma <= 0) return flatCentroid(patch, out, reason);
   const cv::Mat1f& v = patch.values;
-  const bool flat = weight_sigma <= 0;
-  const double inv_w2 = flat ? 0.0 : 1.0 / (weight_sigma * weight_sigma);
+  const double inv_w2 = 1.0 / (weight_sigma * weight_sigma);
   const double ox = patch.origin.x, oy = patch.origin.y;
   Vec2 x = start;
-  if (flat) max_iter = 1;
   for (int it = 0; it < max_iter; ++it) {
     // Seed 004 eq. 4.1: position = sum(S_i p_i) / sum(S_i), here with weights g_i.
     double sw = 0, sx = 0, sy = 0;
@@ -22,11 +81,8 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
       for (int c = 0; c < v.cols; ++c) {
         const double s = row[c] - patch.background;
         const double px = ox + c;
-        double g = 1.0;
-        if (!flat) {
-          const double dx = px - x.x(), dy = py - x.y();
-          g = std::exp(-0.5 * (dx * dx + dy * dy) * inv_w2);
-        }
+        const double dx = px - x.x(), dy = py - x.y();
+        const double g = std::exp(-0.5 * (dx * dx + dy * dy) * inv_w2);
         sw += g * s;
         sx += g * s * px;
         sy += g * s * py;
@@ -47,24 +103,39 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
     return false;
   }
   // Linearised covariance of the fixed point (header), plus flux, peak and SNR.
-  Mat2 J = Mat2::Zero(), M = Mat2::Zero();
-  Vec2 Gd = Vec2::Zero();  // dF/db = -sum g_i d_i: the shift of a background error
+  // Scalar sums (2x2 symmetric matrices by their three entries): this loop runs for every
+  // window of every tracked star.
+  double sg = 0, jxx = 0, jxy = 0, jyy = 0;  // sum s g, sum s g d d^T
+  double mxx = 0, mxy = 0, myy = 0;          // sum var g^2 d d^T
+  double gdx = 0, gdy = 0;                   // dF/db = -sum g_i d_i: shift of a background error
   double flux = 0, peak = -1e300, var_flux = 0;
   for (int r = 0; r < v.rows; ++r) {
     const float* row = v[r];
+    const double dy = oy + r - x.y();
     for (int c = 0; c < v.cols; ++c) {
       const double s = row[c] - patch.background;
-      const Vec2 d(ox + c - x.x(), oy + r - x.y());
-      const double g = flat ? 1.0 : std::exp(-0.5 * d.squaredNorm() * inv_w2);
+      const double dx = ox + c - x.x();
+      const double g = std::exp(-0.5 * (dx * dx + dy * dy) * inv_w2);
       const double var = patch.variance(s);
-      J += s * g * (d * d.transpose() * inv_w2 - Mat2::Identity());
-      M += var * g * g * d * d.transpose();
-      Gd += g * d;
+      const double sgi = s * g, vg2 = var * g * g;
+      sg += sgi;
+      jxx += sgi * dx * dx;
+      jxy += sgi * dx * dy;
+      jyy += sgi * dy * dy;
+      mxx += vg2 * dx * dx;
+      mxy += vg2 * dx * dy;
+      myy += vg2 * dy * dy;
+      gdx += g * dx;
+      gdy += g * dy;
       flux += s;
       var_flux += var;
       peak = std::max(peak, s);
     }
   }
+  Mat2 J, M;
+  J << inv_w2 * jxx - sg, inv_w2 * jxy, inv_w2 * jxy, inv_w2 * jyy - sg;
+  M << mxx, mxy, mxy, myy;
+  const Vec2 Gd(gdx, gdy);
   const double det = J.determinant();
   if (!(std::abs(det) > 0)) {
     if (reason) *reason = "degenerate weights";

@@ -102,6 +102,7 @@ void BM_Windows20(benchmark::State& state, std::string centroider) {
 }
 BENCHMARK_CAPTURE(BM_Windows20, gauss, std::string("gauss"))->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Windows20, iwc, std::string("iwc"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, cog, std::string("cog"))->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
