@@ -26,6 +26,9 @@ struct Centroid {
   double snr = 0;              ///< flux / its 1-sigma noise
   int area = 0;                ///< pixels in the blob
   uint32_t flags = 0;          ///< CentroidFlag bits
+  /// [px^2] second central moments of the blob's light above the background (full-frame
+  /// detection; zero from windows): a streak's direction and length.
+  Mat2 shape = Mat2::Zero();
 };
 
 }  // namespace st

@@ -69,6 +69,15 @@ struct Moments {
     syy += w * y * y;
     sxy += w * x * y;
   }
+  Mat2 central() const {
+    Mat2 m = Mat2::Zero();
+    if (sw <= 0) return m;
+    const double mx = sx / sw, my = sy / sw;
+    m(0, 0) = sxx / sw - mx * mx;
+    m(1, 1) = syy / sw - my * my;
+    m(0, 1) = m(1, 0) = sxy / sw - mx * my;
+    return m;
+  }
   void shape(double& elongation, double& sigma) const {
     elongation = 1;
     sigma = 0;
@@ -204,6 +213,7 @@ DetectionResult measureBlobs(const cv::Mat& grey, const BackgroundModel& bg,
     }
     star.area = c.area;
     star.flags = flags;
+    star.shape = mom.central();
     bool dup = false;
     for (const Centroid& o : res.stars)
       if ((o.px - star.px).squaredNorm() < min_sep2) dup = true;

@@ -41,6 +41,7 @@
 #include <mrpt/core/Clock.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -156,9 +157,9 @@ class StarTrackerPipeline {
   /// `rate_cam`: the body rate (camera frame) when a gyro gave one, to measure streaks whole.
   bool lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                    CObservationStarTracker& out, Fix& fix);
-  /// Full-frame centroids of streaks re-measured over the whole streak the rate draws
-  /// (fragments of a faint streak merged); round stars untouched.
-  void measureStreaks(const cv::Mat& image, const Vec3& rate_cam,
+  /// Full-frame centroids of streaks re-measured over the whole streak `blur_at` gives at
+  /// each star (fragments of a faint streak merged); round stars untouched.
+  void measureStreaks(const cv::Mat& image, const std::function<Vec2(const Vec2&)>& blur_at,
                       std::vector<Centroid>& stars) const;
   void setAttitude(CObservationStarTracker& out, const Quat& q_ic, const Mat3& cov_cam) const;
   /// Under an angular acceleration the stars' streak centroids are their exposure-mean

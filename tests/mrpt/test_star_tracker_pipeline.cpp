@@ -29,7 +29,8 @@ double chi2Quantile(double dof, double p) {
 /// Statistics of a run against truth.
 struct RunStats {
   std::map<StarTrackerMode, int> modes;
-  int misidentified = 0;   // matched star whose truth position is not at the centroid
+  int misidentified = 0;   // matched star whose claimed identity is not the true star there
+  int displaced = 0;       // right identity, centroid far from the true image (see score)
   int matched = 0;
   std::vector<double> nees;
   double max_error_arcsec = 0;
@@ -47,21 +48,29 @@ void score(const CObservationStarTracker& o, const FrameSimulator::Frame& f,
   for (const MatchedStar& m : o.stars) {
     ++s.matched;
     s.ids_seen.insert(m.catalog_id);
-    // Misidentified unless the true star nearest to the centroid is the claimed one, and
-    // close: 1.5 px is ~10 sigma of the centroid error of the faintest round stars (SNR ~
-    // 10), plus a quarter of the streak for blurred ones.
+    // Misidentified unless the true star nearest to the centroid is the claimed one.
     const TrueStar* nearest = nullptr;
     for (const TrueStar& t : f.stars) {
       if (!nearest || (t.px - m.px).norm() < (nearest->px - m.px).norm()) nearest = &t;
     }
-    if (!nearest || nearest->id != m.catalog_id ||
-        (nearest->px - m.px).norm() > 1.5 + 0.25 * blur_px) {
+    if (!nearest || nearest->id != m.catalog_id) {
       ++s.misidentified;
+    } else if ((nearest->px - m.px).norm() > 1.5 + 0.25 * blur_px) {
+      // Displaced: 1.5 px is ~10 sigma of the centroid error of the faintest round stars
+      // (SNR ~ 10), plus a quarter of the streak for blurred ones. A faint streak (SNR ~ 5)
+      // has ~1.5 px of CoG error along it, so a rare one lands here with the right identity.
+      ++s.displaced;
     }
   }
   s.nees.push_back(attitudeNees(o.q_ib, o.cov_body, q_ib_true));
   s.max_error_arcsec =
       std::max(s.max_error_arcsec, rad2arcsec(attitudeError(o.q_ib, q_ib_true).total));
+}
+
+/// Identities all right, and displaced centroids rare (<= 0.5 % of the matches).
+void expectRightStars(const RunStats& s) {
+  EXPECT_EQ(s.misidentified, 0) << "of " << s.matched;
+  EXPECT_LE(s.displaced, s.matched / 200) << "of " << s.matched << " displaced";
 }
 
 double meanNees(const RunStats& s) {
@@ -114,7 +123,7 @@ TEST(StarTrackerPipeline, LostInSpaceThenRateMatchTrackingDuringASlew) {
   EXPECT_EQ(modes[0], StarTrackerMode::kLostInSpace);
   EXPECT_EQ(modes[1], StarTrackerMode::kLostInSpace);
   EXPECT_EQ(s.modes[StarTrackerMode::kTracking], 58);
-  EXPECT_EQ(s.misidentified, 0) << "of " << s.matched;
+  expectRightStars(s);
   expectNotOptimistic(s);
   // Stars that entered the field after frame 2 were picked up and identified.
   int entered = 0;
@@ -159,7 +168,7 @@ TEST(StarTrackerPipeline, GyroRateTracksThroughAnAcceleratingSlewFromTheSecondFr
       }
     }
   }
-  EXPECT_EQ(s.misidentified, 0) << "of " << s.matched;
+  expectRightStars(s);
   std::cout << "[ info ] slew up to 3 deg/s, gyro: " << s.matched << " matches, max error "
             << s.max_error_arcsec << " arcsec, mean NEES " << meanNees(s) << "\n";
 }
@@ -167,8 +176,8 @@ TEST(StarTrackerPipeline, GyroRateTracksThroughAnAcceleratingSlewFromTheSecondFr
 // The reported covariance is consistent in the chi-square sense during constant-rate slews
 // with a gyro (noise as the pipeline's gyro_sigma): 1 deg/s (2.5 px streaks) and 3 deg/s
 // (15 px streaks, whose faint fragments full-frame detection finds; lost-in-space re-measures
-// them over the whole streak the gyro rate predicts). The first frame at 3 deg/s has no rate
-// yet and may fail lost-in-space; the second may not.
+// them over the whole streak the gyro rate predicts, or, in the first frame without a rate,
+// the streak the blobs' shapes give).
 TEST(StarTrackerPipeline, CovarianceIsConsistentDuringSlews) {
   for (const double rate_deg_s : {1.0, 3.0}) {
     SCOPED_TRACE(rate_deg_s);
@@ -192,12 +201,43 @@ TEST(StarTrackerPipeline, CovarianceIsConsistentDuringSlews) {
       }
       score(*o, f, f.q_ib, s);
     }
-    EXPECT_EQ(s.misidentified, 0) << "of " << s.matched;
+    expectRightStars(s);
     expectConsistent(s);
     std::cout << "[ info ] " << rate_deg_s << " deg/s with a gyro: " << s.nees.size()
               << " fixes, mean NEES " << meanNees(s) << ", max error " << s.max_error_arcsec
               << " arcsec\n";
   }
+}
+
+TEST(StarTrackerPipeline, LostInSpaceMeasuresStreaksFromTheirShapesWithoutARate) {
+  // The first frame of a fast slew, no gyro: faint 10-15 px streaks break into fragments
+  // whose centroids sit up to half a streak off. The streak is estimated from the brightest
+  // blobs' moments and every star re-measured over it.
+  int solved = 0;
+  RunStats s;
+  for (int k = 0; k < 6; ++k) {
+    const double az = 2.0 * M_PI * k / 6.0;
+    const double rate = deg2rad(2.0 + 0.2 * k);
+    const SlewMotion motion(attitudeFromRaDecRoll({deg2rad(84.0 + 25.0 * k), deg2rad(-2.0 + 6.0 * k),
+                                                   deg2rad(25.0)}),
+                            rate * Vec3(std::cos(az), std::sin(az), 0.05));
+    FrameSimulator sim(900 + k);
+    StarTrackerPipeline pipe(test::simDatabase(), test::simCamera(), test::simPipelineOptions());
+    const auto f = sim.frame(motion, 0.0);
+    const auto o = pipe.process(f.image, f.t);
+    solved += o->mode == StarTrackerMode::kLostInSpace;
+    if (o->mode != StarTrackerMode::kLostInSpace) {
+      std::cout << "[ info ] slew " << k << ": " << o->reason << "\n";
+    }
+    score(*o, f, f.q_ib, s);
+  }
+  // Measured: 5 of 6 (the sixth is refused by verification: a false-match probability of
+  // 0.03, never a wrong attitude); without the shape estimate 0 of 6.
+  EXPECT_GE(solved, 5);
+  expectRightStars(s);
+  for (double v : s.nees) EXPECT_LT(v, chi2Quantile(3, 0.999)) << "a fix outside its covariance";
+  std::cout << "[ info ] streaked first frames without a rate: " << solved << "/6 solved, "
+            << s.matched << " stars, mean NEES " << meanNees(s) << "\n";
 }
 
 TEST(StarTrackerPipeline, ExternalPredictionIsUsedFromTheNextFrame) {
@@ -223,7 +263,7 @@ TEST(StarTrackerPipeline, ExternalPredictionIsUsedFromTheNextFrame) {
     EXPECT_EQ(o->mode, k == 0 ? StarTrackerMode::kLostInSpace : StarTrackerMode::kTracking)
         << "frame " << k << ": " << o->reason;
   }
-  EXPECT_EQ(s.misidentified, 0) << "of " << s.matched;
+  expectRightStars(s);
 }
 
 TEST(StarTrackerPipeline, FallsBackToLostInSpaceAfterFailedFramesAndRecovers) {
@@ -258,7 +298,7 @@ TEST(StarTrackerPipeline, FallsBackToLostInSpaceAfterFailedFramesAndRecovers) {
   for (std::size_t k = 0; k < expected.size(); ++k) {
     EXPECT_EQ(toString(modes[k]), std::string(toString(expected[k]))) << "frame " << k;
   }
-  EXPECT_EQ(s.misidentified, 0);
+  expectRightStars(s);
 }
 
 TEST(StarTrackerPipeline, AWrongPredictionFailsInsteadOfMisidentifying) {
