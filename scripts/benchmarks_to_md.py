@@ -43,10 +43,13 @@ def main(folder):
            f"- machine: {cpu_model()}, {os.cpu_count()} cores, {platform.system()} {platform.release()}",
            f"- commit: {commit}; each program pinned to one core (`taskset -c {os.environ.get('ST_BENCH_CORE', '0')}`), "
            "median of 3 repetitions", ""]
+    medians = {}  # name -> ns, for the ratios below
     for fname in files:
         with open(os.path.join(folder, fname)) as f:
             data = json.load(f)
         rows = [b for b in data.get("benchmarks", []) if b.get("aggregate_name", "median") == "median"]
+        for b in rows:
+            medians[b["name"].replace("_median", "")] = b["real_time"] * UNIT[b.get("time_unit", "ns")]
         if not rows:
             continue
         out += [f"## {fname[:-5]}", "", "| benchmark | time (median) | target | met | notes |",
@@ -68,6 +71,16 @@ def main(folder):
             name = b["name"].replace("_median", "")
             out.append(f"| `{name}` | {fmt_time(ns)} | {tgt} | {met} | {notes} |")
         out.append("")
+    # Ratios the issues ask for, from the medians above (target in parentheses).
+    ratios = [("tracking frame vs lost-in-space on the same frames (issue 7: >= 20x)",
+               "BM_LostInSpaceFrame", "BM_TrackingFrame/0", 20.0)]
+    lines = []
+    for what, slow, fast, target in ratios:
+        if slow in medians and fast in medians:
+            r = medians[slow] / medians[fast]
+            lines.append(f"| {what} | {r:.1f}x | {'yes' if r >= target else '**no**'} |")
+    if lines:
+        out += ["## Ratios", "", "| ratio | measured | met |", "|---|---|---|"] + lines + [""]
     print("\n".join(out))
 
 

@@ -338,12 +338,17 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
     uint32_t flags = 0;
     if (peak >= sat) flags |= kSaturated;
     if ((full & frame).area() != full.area()) flags |= kTouchesEdge;
-    thresholdMoments(cw, area, mom);
-    double elong = 1, psf = 0;
-    mom.shape(elong, psf);
-    if (elong > opts.max_elongation) flags |= kElongated;
-    if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
-    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    double psf = psf0;
+    if (streak) {
+      flags |= kElongated;  // by construction; its moments would only say so again
+    } else {
+      thresholdMoments(cw, area, mom);
+      double elong = 1;
+      mom.shape(elong, psf);
+      if (elong > opts.max_elongation) flags |= kElongated;
+      if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
+      psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    }
     StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
     // Variance of the ring median: pi/2 sigma^2 / n for Gaussian noise.
     patch.background_var = 0.5 * M_PI * sb * sb / static_cast<double>(ring.size());
