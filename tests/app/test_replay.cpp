@@ -37,6 +37,7 @@ struct SampleCase {
   std::string name;
   int frames;          // CAMERA frames in the rawlog
   double solved_pct;   // expected
+  bool tracker_ini;    // --config rawlogs/tracker.ini (the samples' detector, as demo.sh)
 };
 
 class ReplaySample : public ::testing::TestWithParam<SampleCase> {};
@@ -52,10 +53,12 @@ TEST_P(ReplaySample, SolvesTracksAndWritesOutputs) {
   const SampleCase c = GetParam();
   const std::string dir = test::makeTempDir("replay_" + c.name);
   const std::string out_rawlog = dir + "/out.rawlog", csv = dir + "/traj.csv";
+  const std::string config =
+      c.tracker_ini ? " --config " + test::repoDir() + "/rawlogs/tracker.ini" : "";
   std::string out;
   const int rc = test::runCommand(test::startrackerExe() + " replay -q " + sample(c.name) +
-                                      " -o " + out_rawlog + " --csv " + csv + " --plots " + dir +
-                                      "/plots",
+                                      config + " -o " + out_rawlog + " --csv " + csv +
+                                      " --plots " + dir + "/plots",
                                   &out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_EQ(grab(out, R"(frames: (\d+))"), c.frames) << out;
@@ -67,6 +70,7 @@ TEST_P(ReplaySample, SolvesTracksAndWritesOutputs) {
   EXPECT_LT(cross, 14.0) << out;
   EXPECT_GE(roll, 0) << out;
   EXPECT_LT(roll, 110.0) << out;
+  EXPECT_EQ(grab(out, R"(, (\d+) misidentified)"), 0) << out;
 
   // CSV: header + one row per frame.
   EXPECT_EQ(lines(csv), std::size_t(c.frames) + 1);
@@ -86,10 +90,15 @@ TEST_P(ReplaySample, SolvesTracksAndWritesOutputs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Samples, ReplaySample,
-                         ::testing::Values(SampleCase{"slew_2dps", 12, 100.0},
-                                           SampleCase{"hold", 12, 100.0},
-                                           SampleCase{"faults_dropout", 15, 100.0}),
-                         [](const auto& info) { return info.param.name; });
+                         ::testing::Values(SampleCase{"slew_2dps", 12, 100.0, false},
+                                           SampleCase{"hold", 12, 100.0, false},
+                                           SampleCase{"faults_dropout", 15, 100.0, false},
+                                           SampleCase{"slew_2dps", 12, 100.0, true},
+                                           SampleCase{"hold", 12, 100.0, true},
+                                           SampleCase{"faults_dropout", 15, 100.0, true}),
+                         [](const auto& info) {
+                           return info.param.name + (info.param.tracker_ini ? "_tracker_ini" : "");
+                         });
 
 // ---- bad input: a message naming the file and the problem, exit 1 or 2, no crash --------
 
