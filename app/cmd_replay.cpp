@@ -63,14 +63,6 @@ void linkImages(const std::string& input, const std::string& output) {
   }
 }
 
-Plot makePlot(const std::string& title, const std::string& x, const std::string& y) {
-  Plot p;
-  p.title = title;
-  p.xlabel = x;
-  p.ylabel = y;
-  return p;
-}
-
 void plots(const std::vector<NavStep>& steps, const std::string& dir) {
   fs::create_directories(dir);
   Plot err = makePlot("Attitude error (filter - truth) with +-3 sigma", "time [s]", "error [arcsec]");

@@ -121,6 +121,14 @@ std::string num(double v) {
 
 }  // namespace
 
+Plot makePlot(std::string title, std::string xlabel, std::string ylabel) {
+  Plot p;
+  p.title = std::move(title);
+  p.xlabel = std::move(xlabel);
+  p.ylabel = std::move(ylabel);
+  return p;
+}
+
 std::string gnuplotProgram(const std::string& override_path) {
   if (!override_path.empty()) return override_path;
   const char* env = std::getenv("ST_GNUPLOT");

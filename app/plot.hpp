@@ -53,6 +53,9 @@ struct Plot {
   std::string key = "top right";  ///< gnuplot `set key` position, "off" hides the legend
 };
 
+/// A plot with its title and axis labels, the rest default.
+Plot makePlot(std::string title, std::string xlabel, std::string ylabel);
+
 /// The gnuplot program: `override` if not empty, else $ST_GNUPLOT, else "gnuplot" on PATH.
 std::string gnuplotProgram(const std::string& override_path = "");
 

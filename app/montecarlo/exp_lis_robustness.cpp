@@ -235,10 +235,9 @@ class LisRobustness : public Experiment {
          true},
     };
     for (const Sweep& sw : sweeps) {
-      Plot p;
-      p.title = sw.title + " (" + fmt(o.fov_deg, 4) + " deg FOV, V <= " + fmt(o.mag_limit, 3) + ")";
-      p.xlabel = sw.xlabel;
-      p.ylabel = "correct identifications [%]";
+      Plot p = makePlot(
+          sw.title + " (" + fmt(o.fov_deg, 4) + " deg FOV, V <= " + fmt(o.mag_limit, 3) + ")",
+          sw.xlabel, "correct identifications [%]");
       p.log_x = sw.log_x;
       p.key = "bottom left";
       for (const std::string& alg : o.algorithms) {

@@ -77,10 +77,8 @@ class StarCount : public Experiment {
     per.caption = "Stars per image vs magnitude limit";
     per.table.columns = {"V_limit", "trials", "mean", "std", "min", "p1", "p5", "median",
                          "max", "P(N<3)", "P(N<4)"};
-    Plot pm;
-    pm.title = "Stars per image vs magnitude limit (" + fmt(o.fov_deg, 4) + " deg FOV)";
-    pm.xlabel = "magnitude limit V";
-    pm.ylabel = "stars in the image";
+    Plot pm = makePlot("Stars per image vs magnitude limit (" + fmt(o.fov_deg, 4) + " deg FOV)",
+                       "magnitude limit V", "stars in the image");
     pm.log_y = true;
     pm.key = "top left";
     PlotSeries s_mean{"mean", PlotStyle::LinesPoints}, s_band{"5 % .. 95 %", PlotStyle::Band},
@@ -133,11 +131,10 @@ class StarCount : public Experiment {
       bars.y.push_back(double(c));
     }
     rep.tables.push_back(hist);
-    Plot ph;
-    ph.title = "Stars per image, V <= " + fmt(o.mag_limit, 4) + ", " + fmt(o.fov_deg, 4) +
-               " deg FOV, " + std::to_string(main_counts.size()) + " random attitudes";
-    ph.xlabel = "stars in the image";
-    ph.ylabel = "trials";
+    Plot ph = makePlot("Stars per image, V <= " + fmt(o.mag_limit, 4) + ", " + fmt(o.fov_deg, 4) +
+                           " deg FOV, " + std::to_string(main_counts.size()) +
+                           " random attitudes",
+                       "stars in the image", "trials");
     ph.key = "off";
     ph.x_min = -0.5;
     ph.series = {bars};

@@ -222,30 +222,29 @@ class Timing : public Experiment {
       }
     }
     rep.tables.push_back(tab);
-    Plot pt;
-    pt.title = "Median time per stage, " + first + ", rendered " + fmt(o.fov_deg, 4) + " deg frames";
-    pt.xlabel = "detected stars in the frame";
-    pt.ylabel = "time [ms]";
-    pt.log_y = true;
-    pt.key = "bottom right";
-    for (auto& [k, s] : stage_series) pt.series.push_back(s);
-    Plot pi;
-    pi.title = "Median identification time (pattern + verification), simulated centroids";
-    pi.xlabel = "observations (false stars included)";
-    pi.ylabel = "time [ms]";
-    pi.log_y = true;
-    pi.key = "top left";
-    for (auto& [k, s] : id_series) pi.series.push_back(s);
-    Plot pc;
-    pc.title = "Candidate attitudes examined vs observations, simulated centroids";
-    pc.xlabel = "observations (false stars included)";
-    pc.ylabel = "mean candidates examined";
-    pc.log_y = true;
-    pc.key = "top left";
-    for (auto& [k, s] : cand_series) pc.series.push_back(s);
-    rep.plots.push_back({"stages", pt});
-    rep.plots.push_back({"identify", pi});
-    rep.plots.push_back({"candidates", pc});
+    // Times and counts span decades: log y, one series per stage or algorithm.
+    auto logPlot = [](std::string title, std::string xlabel, std::string ylabel,
+                      std::string key, const std::map<std::string, PlotSeries>& series) {
+      Plot p = makePlot(std::move(title), std::move(xlabel), std::move(ylabel));
+      p.log_y = true;
+      p.key = std::move(key);
+      for (const auto& [k, s] : series) p.series.push_back(s);
+      return p;
+    };
+    const std::string n_obs = "observations (false stars included)";
+    rep.plots.push_back(
+        {"stages", logPlot("Median time per stage, " + first + ", rendered " +
+                               fmt(o.fov_deg, 4) + " deg frames",
+                           "detected stars in the frame", "time [ms]", "bottom right",
+                           stage_series)});
+    rep.plots.push_back(
+        {"identify",
+         logPlot("Median identification time (pattern + verification), simulated centroids",
+                 n_obs, "time [ms]", "top left", id_series)});
+    rep.plots.push_back(
+        {"candidates", logPlot("Candidate attitudes examined vs observations, simulated "
+                               "centroids",
+                               n_obs, "mean candidates examined", "top left", cand_series)});
     return rep;
   }
 

@@ -44,6 +44,13 @@ Eigen::Matrix<double, 2, 3> projectionJacobian(const CameraModel& cam, const Vec
   return cam.pixelJacobian(v) * n;
 }
 
+/// d(pixel)/d(dtheta) (2x3) of the image of direction v_cam under a small rotation dtheta of
+/// the camera: v_true = v + [v]x dtheta. The same Jacobian maps a body rate to the image
+/// velocity (v(tau) = v + [v]x omega tau), so H omega T is a star's blur.
+Eigen::Matrix<double, 2, 3> attitudeJacobian(const CameraModel& cam, const Vec3& v) {
+  return projectionJacobian(cam, v) * skew(v);
+}
+
 double angleBetween(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
@@ -144,10 +151,10 @@ void StarTrackerPipeline::reset() {
 }
 
 std::optional<StarTrackerPipeline::Prediction> StarTrackerPipeline::predictionFor(
-    mrpt::Clock::time_point t) {
+    mrpt::Clock::time_point t, const std::optional<Vec3>& rate_cam) {
   // One-shot inputs: consumed by this frame whatever happens.
   const auto external = std::exchange(external_, std::nullopt);
-  const auto gyro = std::exchange(gyro_rate_body_, std::nullopt);
+  const bool gyro = std::exchange(gyro_rate_body_, std::nullopt).has_value();
   if (lost_) return std::nullopt;
 
   const Mat3 R_cb = R_bc_.transpose();
@@ -156,7 +163,7 @@ std::optional<StarTrackerPipeline::Prediction> StarTrackerPipeline::predictionFo
     Prediction p;
     p.q_ic = canonical(external->q_ib * Quat(R_bc_));
     p.cov_cam = R_cb * external->cov_body * R_cb.transpose();
-    p.rate_cam = R_cb * external->rate_body;
+    p.rate_cam = *rate_cam;  // the external prediction's rate
     p.source = "external";
     return p;
   }
@@ -167,7 +174,7 @@ std::optional<StarTrackerPipeline::Prediction> StarTrackerPipeline::predictionFo
   Prediction p;
   Mat3 rate_term = Mat3::Zero();
   if (gyro) {
-    p.rate_cam = R_cb * *gyro;
+    p.rate_cam = *rate_cam;
     rate_term = std::pow(opts_.gyro_sigma * dt, 2) * Mat3::Identity();
     p.source = "gyro";
   } else if (prev_) {
@@ -206,10 +213,11 @@ CObservationStarTracker::Ptr StarTrackerPipeline::process(const cv::Mat& image,
   out->sensorLabel = opts_.sensor_label;
   out->sensor_pose = opts_.sensor_pose;
 
+  // The measured body rate in the camera frame: the external prediction's, else the gyro's.
   std::optional<Vec3> rate_cam;
   if (gyro_rate_body_) rate_cam = R_bc_.transpose() * *gyro_rate_body_;
   if (external_) rate_cam = R_bc_.transpose() * external_->rate_body;
-  const auto pred = predictionFor(t);
+  const auto pred = predictionFor(t, rate_cam);
   Fix fix;
   if (pred) {
     if (track(image, *pred, *out, fix)) {
@@ -339,7 +347,7 @@ bool StarTrackerPipeline::lostInSpace(const cv::Mat& image, const std::optional<
           image,
           [&](const Vec2& px) -> Vec2 {
             const Vec3 v = camera_.pixelToVector(px);
-            return projectionJacobian(camera_, v) * skew(v) * *rate_cam * opts_.exposure_s;
+            return attitudeJacobian(camera_, v) * *rate_cam * opts_.exposure_s;
           },
           det.stars);
     } else if (const auto blur = streakFromShapes(det.stars, opts_.detect)) {
@@ -416,10 +424,8 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
   for (Candidate& c : candidates_) {
     if (int(windows.size()) >= opts_.max_tracked_stars) break;
     if (!camera_.isPixelInImage(c.px, opts_.edge_margin_px)) continue;
-    // Error model: v_true = Exp(-dtheta) v = v + [v]x dtheta (R_true = R Exp(dtheta)), and
-    // over the exposure v(tau) = v + [v]x omega tau: same Jacobian for both.
-    const Eigen::Matrix<double, 3, 3> S = skew(c.v_cam);
-    c.H = projectionJacobian(camera_, c.v_cam) * S;
+    // Error model: v_true = Exp(-dtheta) v = v + [v]x dtheta (R_true = R Exp(dtheta)).
+    c.H = attitudeJacobian(camera_, c.v_cam);
     const Vec2 blur = c.H * pred.rate_cam * opts_.exposure_s;
     const double hc = std::ceil(2.5 * psf + 0.5 * blur.norm());
     const double reach_x = hc + 0.5 * std::abs(blur.x()) + 3.0 * psf;
@@ -539,7 +545,7 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
         const Vec3 v = R.transpose() * db_.stars()[gated_cand[k]->star_index].u_i;
         const auto px = camera_.vectorToPixel(v);
         if (!px) return fail("a matched star projects outside the camera");
-        const Eigen::Matrix<double, 2, 3> H = projectionJacobian(camera_, v) * skew(v);
+        const Eigen::Matrix<double, 2, 3> H = attitudeJacobian(camera_, v);
         const Mat2 Ci = (gated[k].cov_px + floor2).inverse();
         const Vec2 d = gated[k].px - *px;
         N += H.transpose() * Ci * H;

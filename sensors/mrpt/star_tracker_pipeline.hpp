@@ -151,7 +151,9 @@ class StarTrackerPipeline {
     std::string source;
   };
 
-  std::optional<Prediction> predictionFor(mrpt::Clock::time_point t);
+  /// `rate_cam`: the measured rate (camera frame) of this frame's prediction or gyro input.
+  std::optional<Prediction> predictionFor(mrpt::Clock::time_point t,
+                                          const std::optional<Vec3>& rate_cam);
   bool track(const cv::Mat& image, const Prediction& pred, CObservationStarTracker& out,
              Fix& fix);
   /// `rate_cam`: the body rate (camera frame) when a gyro gave one, to measure streaks whole.
