@@ -45,44 +45,84 @@ double bilinear(const BackgroundModel& m, const std::vector<float>& t, double x,
 }  // namespace
 
 namespace {
-// Quantile p of integer-valued samples read as grouped data: each value k stands for the
-// interval [k - 0.5, k + 0.5) (what the ADC rounded), and the quantile is interpolated inside
-// its interval. The plain order statistic of quantised data is itself an integer: a median
-// off by up to 0.5 ADU and a MAD of 0 or 1 ADU when sigma ~ 1 ADU (8-bit cameras), i.e. a
-// background bias and a noise estimate off by up to 40 %.
-// Pixel values are integers of small spread (background noise): a counting sort is O(n +
-// range) and branch-free, where a comparison sort of noise mispredicts nearly every branch
-// (this runs for every tracking window's border ring).
-void sortSamples(std::vector<float>& v) {
-  // Beyond a few counters per sample, clearing and scanning the counters costs more.
-  const float max_range = static_cast<float>(std::max<std::size_t>(64, 2 * v.size()));
-  float lo = v.front(), hi = v.front();
-  bool integer = true;
+// Quantisation step of the samples: the largest power of two dividing all of them (an ADC of
+// b bits whose values are shifted into a 16-bit word counts in steps of 2^(16-b): the tetra3
+// frames step by 16), 1 for too few samples to tell, 0 if some sample is not a whole number.
+int32_t quantisationStep(const std::vector<float>& v) {
+  int32_t bits = 0;
+  bool whole = true;
   for (float x : v) {
-    lo = std::min(lo, x);
-    hi = std::max(hi, x);
-    integer = integer && x == std::floor(x);
+    const bool in_range = std::abs(x) < 1e9f;
+    const int32_t i = in_range ? static_cast<int32_t>(x) : 0;
+    whole &= in_range & (static_cast<float>(i) == x);
+    bits |= i;
   }
-  if (!integer || hi - lo > max_range) {
-    std::sort(v.begin(), v.end());
-    return;
-  }
-  thread_local std::vector<uint32_t> count;
-  count.assign(static_cast<std::size_t>(hi - lo) + 1, 0);
-  for (float x : v) ++count[static_cast<std::size_t>(x - lo)];
-  auto out = v.begin();
-  for (std::size_t k = 0; k < count.size(); ++k)
-    out = std::fill_n(out, count[k], lo + static_cast<float>(k));
+  if (!whole) return 0;
+  // All of n random noise samples share a factor of 2 with probability 2^-n: trust it only
+  // for a long list.
+  if (bits == 0 || v.size() < 24) return 1;
+  return bits & -bits;
 }
 
-double groupedQuantile(const std::vector<float>& sorted, double p) {
-  const double target = p * static_cast<double>(sorted.size());
-  const std::size_t k = std::min(sorted.size() - 1, static_cast<std::size_t>(target));
-  const float m = sorted[k];
-  if (m != std::floor(m)) return m;  // not integer data: the order statistic
-  const auto [lo, hi] = std::equal_range(sorted.begin(), sorted.end(), m);
-  const double below = static_cast<double>(lo - sorted.begin());
-  return m - 0.5 + (target - below) / static_cast<double>(hi - lo);
+// Quantiles of quantised samples read as grouped data: each value k stands for the interval
+// [k - step/2, k + step/2) (what the ADC rounded), and the quantile is interpolated inside its
+// interval. The plain order statistic of quantised data is itself a level: a median off by up
+// to half a step and a MAD of 0 or 1 step when sigma ~ 1 step (8-bit cameras), i.e. a
+// background bias and a noise estimate off by up to 40 %.
+// For the order statistic m = x_(k), k = floor(p n): with `below` samples < m and `equal`
+// samples == m, the quantile is m - step/2 + step (p n - below) / equal (not quantised: m).
+double interpolateGroup(double m, int32_t step, double target, std::size_t below,
+                        std::size_t equal) {
+  if (step == 0) return m;
+  return m + step * (-0.5 + (target - static_cast<double>(below)) / static_cast<double>(equal));
+}
+
+// The three quantiles p[0] <= p[1] <= p[2] of the samples (reordered in place). This runs for
+// every tracking window's border ring: no comparison sort or selection (on noise, about every
+// other comparison mispredicts) when a histogram will do: quantised values, counted per level
+// from the lowest, those beyond the histogram (a star's pixels on the ring) in an overflow
+// count that is fine as long as no quantile falls into it. Otherwise three selections on
+// shrinking ranges and a count of the ties of each order statistic.
+void groupedQuantiles(std::vector<float>& v, const double (&p)[3], double (&q)[3]) {
+  const std::size_t n = v.size();
+  std::size_t k[3];
+  double target[3];
+  for (int i = 0; i < 3; ++i) {
+    target[i] = p[i] * static_cast<double>(n);
+    k[i] = std::min(n - 1, static_cast<std::size_t>(target[i]));
+  }
+  const int32_t step = quantisationStep(v);
+  if (step > 0) {
+    const float lo = *std::min_element(v.begin(), v.end());
+    const std::size_t bins = std::clamp<std::size_t>(2 * n, 256, 4096);
+    const float inv_step = 1.0f / static_cast<float>(step);  // exact: a power of two
+    thread_local std::vector<uint32_t> count;
+    count.assign(bins + 1, 0);  // the last: overflow
+    for (float x : v)
+      ++count[std::min(static_cast<std::size_t>((x - lo) * inv_step), bins)];
+    std::size_t bin = 0, below = 0;
+    int i = 0;
+    for (; i < 3; ++i) {
+      while (bin < bins && below + count[bin] <= k[i]) below += count[bin++];
+      if (bin == bins) break;  // in the overflow: select instead
+      q[i] = interpolateGroup(lo + static_cast<double>(bin) * step, step, target[i], below,
+                              count[bin]);
+    }
+    if (i == 3) return;
+  }
+  const auto at = [&](std::size_t i) { return v.begin() + static_cast<std::ptrdiff_t>(i); };
+  std::nth_element(v.begin(), at(k[1]), v.end());
+  if (k[0] < k[1]) std::nth_element(v.begin(), at(k[0]), at(k[1]));
+  if (k[2] > k[1]) std::nth_element(at(k[1] + 1), at(k[2]), v.end());
+  for (int i = 0; i < 3; ++i) {
+    const float m = v[k[i]];
+    std::size_t below = 0, equal = 0;
+    for (float x : v) {
+      below += x < m;
+      equal += x == m;
+    }
+    q[i] = interpolateGroup(m, step, target[i], below, equal);
+  }
 }
 }  // namespace
 
@@ -91,9 +131,10 @@ void robustLevelSigma(std::vector<float>& v, double& level, double& sigma) {
   // For Gaussian noise of sigma s rounded to integers the grouped quantiles are those of the
   // noise spread over the rounding interval, variance s^2 + 1/12: exactly the per-pixel
   // variance (noise + quantisation, seed 004 eq. 3.12) that the centroiders need.
-  sortSamples(v);  // one sort for the three quantiles
-  level = groupedQuantile(v, 0.5);
-  sigma = (groupedQuantile(v, 0.75) - groupedQuantile(v, 0.25)) / 1.349;
+  double q[3];
+  groupedQuantiles(v, {0.25, 0.5, 0.75}, q);
+  level = q[1];
+  sigma = (q[2] - q[0]) / 1.349;
 }
 
 double BackgroundModel::levelAt(double x, double y) const {

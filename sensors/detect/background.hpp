@@ -28,8 +28,10 @@ struct BackgroundModel {
 BackgroundModel estimateBackground(const cv::Mat& image, int tile, int samples,
                                    double sigma_floor);
 
-/// Median and 1.4826*MAD of `v` (reordered). Sigma falls back to a trimmed RMS when the MAD
-/// is zero (quantised, nearly flat data).
+/// Median and IQR / 1.349 of the samples `v` (non-empty; reordered), read as grouped data:
+/// whole-number samples stand for their rounding interval, whose width is the quantisation
+/// step found in the data (a power of two: 12-bit pixels shifted into 16 bits step by 16), so
+/// that scaling the samples by the step scales both results by it.
 void robustLevelSigma(std::vector<float>& v, double& level, double& sigma);
 
 }  // namespace st

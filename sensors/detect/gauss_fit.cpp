@@ -48,40 +48,54 @@ constexpr int kMaxTrials = 20;
 constexpr double kStepTolPx = 1e-3;
 constexpr double kStepTolSigma = 1e-2;
 constexpr double kStepTolChi2 = 0.1 * 0.1;
+constexpr double kMaxRate2 = 0.25;  // contraction r < 0.5 per step before r is trusted
 
 // 5x5 symmetric matrices and vectors as plain arrays (parameters x, y, F, B, s).
 using M5 = double[5][5];
 using V5 = double[5];
 
-// Cholesky factor L (lower) of a symmetric positive definite A; false if not positive definite.
-bool cholesky5(const M5& A, M5& L) {
+// A = L D L^T (L unit lower triangular) of a symmetric positive definite A, with 1/D: no
+// square roots and one division per column (this runs several times per star, a dependent
+// chain where each sqrt or division costs its full latency); false if A is not positive
+// definite.
+struct Ldl5 {
+  M5 L;
+  V5 d, inv_d;
+};
+
+bool factorLdl5(const M5& A, Ldl5& F) {
+  V5 ld;  // L[j][k] * D[k] of the current row j
   for (int j = 0; j < 5; ++j) {
     double d = A[j][j];
-    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    for (int k = 0; k < j; ++k) {
+      ld[k] = F.L[j][k] * F.d[k];
+      d -= F.L[j][k] * ld[k];
+    }
     if (!(d > 0)) return false;
-    L[j][j] = std::sqrt(d);
-    const double inv = 1.0 / L[j][j];
+    const double inv = 1.0 / d;
+    F.d[j] = d;
+    F.inv_d[j] = inv;
     for (int i = j + 1; i < 5; ++i) {
       double s = A[i][j];
-      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
-      L[i][j] = s * inv;
+      for (int k = 0; k < j; ++k) s -= F.L[i][k] * ld[k];
+      F.L[i][j] = s * inv;
     }
   }
   return true;
 }
 
-// x = (L L^T)^-1 b
-void cholSolve5(const M5& L, const V5& b, V5& x) {
+// x = (L D L^T)^-1 b
+void ldlSolve5(const Ldl5& F, const V5& b, V5& x) {
   V5 y;
   for (int i = 0; i < 5; ++i) {
     double s = b[i];
-    for (int k = 0; k < i; ++k) s -= L[i][k] * y[k];
-    y[i] = s / L[i][i];
+    for (int k = 0; k < i; ++k) s -= F.L[i][k] * y[k];
+    y[i] = s;
   }
   for (int i = 4; i >= 0; --i) {
-    double s = y[i];
-    for (int k = i + 1; k < 5; ++k) s -= L[k][i] * x[k];
-    x[i] = s / L[i][i];
+    double s = y[i] * F.inv_d[i];
+    for (int k = i + 1; k < 5; ++k) s -= F.L[k][i] * x[k];
+    x[i] = s;
   }
 }
 
@@ -433,26 +447,31 @@ class GaussFitCentroider final : public Centroider {
     Normal N, T;
     evaluate(P, p, work, w_cur, w_trial /* zeros: no previous weights */, N);
     double lambda = 1e-3;
+    double gd_prev = 0;  // predicted chi2 decrease of the last accepted step
     for (int it = 0; it < kMaxTrials; ++it) {
-      M5 A, L;
+      M5 A;
+      Ldl5 L;
       std::copy(&N.H[0][0], &N.H[0][0] + 25, &A[0][0]);
       for (int k = 0; k < 5; ++k) A[k][k] *= 1.0 + lambda;
       V5 d;
-      if (!cholesky5(A, L)) {
+      if (!factorLdl5(A, L)) {
         lambda *= 10;
         if (lambda > 1e8) break;
         continue;
       }
-      cholSolve5(L, N.g, d);
+      ldlSolve5(L, N.g, d);
       if (!finite5(d)) break;
       V5 q;
       for (int k = 0; k < 5; ++k) q[k] = p[k] + d[k];
       q[4] = std::clamp(q[4], 0.25, 20.0);
       double gd = 0;
       for (int k = 0; k < 5; ++k) gd += N.g[k] * d[k];
+      // Error left after taking d: the next step, r * d with r^2 ~ gd / gd_prev (the measured
+      // contraction of the last step, trusted once it is clearly contracting).
+      const double rate2 = gd_prev > 0 ? gd / gd_prev : 1.0;
       if ((d[0] * d[0] + d[1] * d[1] < kStepTolPx * kStepTolPx &&
            std::abs(d[4]) < kStepTolSigma) ||
-          gd < kStepTolChi2) {
+          gd < kStepTolChi2 || (rate2 < kMaxRate2 && gd * rate2 < kStepTolChi2)) {
         std::copy(q, q + 5, p);  // converged: the last step is too small to need checking
         break;
       }
@@ -463,6 +482,7 @@ class GaussFitCentroider final : public Centroider {
         std::copy(q, q + 5, p);
         N = T;
         std::swap(w_cur, w_trial);
+        gd_prev = gd;
         lambda = std::max(lambda * 0.1, 1e-7);
       } else {
         lambda *= 10;
@@ -475,16 +495,16 @@ class GaussFitCentroider final : public Centroider {
       return false;
     }
     // Covariance: the inverse of the Fisher information J^T W J (Cramer-Rao), columns x, y, F.
-    M5 L;
+    Ldl5 L;
     V5 cx, cy, cf;
     const V5 ex = {1, 0, 0, 0, 0}, ey = {0, 1, 0, 0, 0}, ef = {0, 0, 1, 0, 0};
-    if (!cholesky5(N.H, L)) {
+    if (!factorLdl5(N.H, L)) {
       if (reason) *reason = "PSF fit singular";
       return false;
     }
-    cholSolve5(L, ex, cx);
-    cholSolve5(L, ey, cy);
-    cholSolve5(L, ef, cf);
+    ldlSolve5(L, ex, cx);
+    ldlSolve5(L, ey, cy);
+    ldlSolve5(L, ef, cf);
     if (!finite5(cx) || !finite5(cy) || !finite5(cf) || !(cx[0] > 0) || !(cy[1] > 0) ||
         !(cf[2] > 0)) {
       if (reason) *reason = "PSF fit singular";

@@ -264,11 +264,14 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
   cv::Point pk;
   for (int y = win.y; y < win.y + win.height; ++y) {
     const T* row = grey.ptr<T>(y);
-    for (int x = win.x; x < win.x + win.width; ++x)
-      if (static_cast<int>(row[x]) > best) {
-        best = row[x];
-        pk = {x, y};
-      }
+    // The row's maximum without branches (vectorised), its position only when it is a new
+    // peak: a compare-and-remember per pixel mispredicts on noise.
+    int row_max = 0;
+    for (int x = win.x; x < win.x + win.width; ++x) row_max = std::max(row_max, int{row[x]});
+    if (row_max > best) {
+      best = row_max;
+      pk = {static_cast<int>(std::find(row + win.x, row + win.x + win.width, row_max) - row), y};
+    }
     if (y == win.y || y == win.y + win.height - 1) {
       for (int x = win.x; x < win.x + win.width; ++x) *rp++ = static_cast<float>(row[x]);
     } else {
@@ -293,18 +296,31 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
   const double blur = p.blur_px.norm();
   const double thr = b + opts.threshold_sigma * sb;
   auto thresholdMoments = [&](const cv::Rect& r, int& area, Moments& mom) {
+    // Branch-free (pixels below the threshold add zeros): whether a noise pixel is above
+    // the threshold is a coin flip the branch predictor loses.
     area = 0;
-    mom = Moments();
+    double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
     for (int y = r.y; y < r.y + r.height; ++y) {
       const T* row = grey.ptr<T>(y);
+      double rw = 0, rx = 0, rxx = 0;
       for (int x = r.x; x < r.x + r.width; ++x) {
         const double v = row[x];
-        if (v > thr) {
-          ++area;
-          mom.add(x, y, v - b);
-        }
+        const bool above = v > thr;
+        const double w = above ? v - b : 0.0;
+        area += above;
+        rw += w;
+        rx += w * x;
+        rxx += w * x * x;
       }
+      sw += rw;
+      sx += rx;
+      sxx += rxx;
+      sy += rw * y;
+      syy += rw * y * y;
+      sxy += rx * y;
     }
+    mom = Moments();
+    mom.sw = sw, mom.sx = sx, mom.sy = sy, mom.sxx = sxx, mom.syy = syy, mom.sxy = sxy;
   };
   const bool streak = blur > 2.0 * psf0;
   cv::Point centre = pk;

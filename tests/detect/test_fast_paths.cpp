@@ -1,6 +1,7 @@
 // The fast paths of detection against their slow references: the sparse run-based blob
-// labelling against OpenCV's full-frame connected components, and the table-based pixel-
-// integrated Gaussian against the libm erf/exp formula.
+// labelling against OpenCV's full-frame connected components, the table-based pixel-
+// integrated Gaussian against the libm erf/exp formula, and the histogram quantiles of a
+// window's border ring against a sort.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "sensors/detect/background.hpp"
 #include "sensors/detect/blob_labeller.hpp"
 #include "sensors/detect/pixel_gaussian.hpp"
 
@@ -143,6 +145,77 @@ TEST(PixelGaussian, RowMatchesReference) {
   }
   EXPECT_LT(worst, 1e-8);
   EXPECT_GT(worst_shifted, 1e-6);
+}
+
+}  // namespace
+}  // namespace st
+
+namespace st {
+namespace {
+
+// The definition: grouped quantile of sorted samples quantised with `step` (0: not quantised).
+double referenceQuantile(std::vector<float> v, double p, double step) {
+  std::sort(v.begin(), v.end());
+  const double target = p * static_cast<double>(v.size());
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(target));
+  const float m = v[k];
+  if (step == 0) return m;
+  const auto [lo, hi] = std::equal_range(v.begin(), v.end(), m);
+  const double below = static_cast<double>(lo - v.begin());
+  return m + step * (-0.5 + (target - below) / static_cast<double>(hi - lo));
+}
+
+void expectReference(std::vector<float> v, double step, const char* what) {
+  const double level = referenceQuantile(v, 0.5, step);
+  const double sigma = (referenceQuantile(v, 0.75, step) - referenceQuantile(v, 0.25, step)) / 1.349;
+  double l = 0, s = 0;
+  robustLevelSigma(v, l, s);
+  EXPECT_NEAR(l, level, 1e-9) << what;
+  EXPECT_NEAR(s, sigma, 1e-9) << what;
+}
+
+TEST(RobustLevelSigma, HistogramAndSelectionAgreeWithTheSortedDefinition) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 8 + trial % 150;  // window rings from 3x3 to ~40x40
+    std::normal_distribution<double> noise(1000.0, trial % 2 ? 1.3 : 25.0);
+    std::vector<float> adu(static_cast<std::size_t>(n));
+    for (auto& x : adu) x = static_cast<float>(std::lround(noise(rng)));
+    // 8/16-bit pixels (step 1; a short list is not trusted to tell a step).
+    expectReference(adu, 1.0, "step 1");
+    if (n < 24) continue;
+    // 12-bit pixels shifted into 16 bits: steps of 16.
+    std::vector<float> shifted = adu;
+    for (auto& x : shifted) x *= 16;
+    expectReference(shifted, 16.0, "step 16");
+    // A star on the ring: a few values far above the histogram (overflow), same quantiles.
+    std::vector<float> star = shifted;
+    for (int i = 0; i < n / 10; ++i) star[static_cast<std::size_t>(3 * i)] = 65520;
+    expectReference(star, 16.0, "star on the ring");
+    // Not whole numbers (a dark-subtracted float frame): plain order statistics.
+    std::vector<float> real = adu;
+    for (auto& x : real) x += 0.25f;
+    expectReference(real, 0.0, "not quantised");
+  }
+}
+
+TEST(RobustLevelSigma, ScalesWithTheQuantisationStep) {
+  // Grouped data with the step taken from the data: the same pixels read by a 12-bit camera
+  // (step 1) and shifted into a 16-bit word (step 16) give 16x the level and sigma. Treating
+  // the 16-bit values as step-1 data (the width of the rounding interval wrong by 16x) would
+  // not.
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(200.0, 1.1);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<float> v(56), w;
+    for (auto& x : v) x = static_cast<float>(std::lround(noise(rng)));
+    for (float x : v) w.push_back(16 * x);
+    double l1, s1, l16, s16;
+    robustLevelSigma(v, l1, s1);
+    robustLevelSigma(w, l16, s16);
+    EXPECT_NEAR(l16, 16 * l1, 1e-9);
+    EXPECT_NEAR(s16, 16 * s1, 1e-9);
+  }
 }
 
 }  // namespace
