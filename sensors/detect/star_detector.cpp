@@ -92,6 +92,24 @@ struct Moments {
   }
 };
 
+// Largest of n pixel values: a plain max reduction, vectorised (unsigned integer max needs
+// SSE4.1 or AVX2, hence the clones); the search windows of fast-moving stars are ~1000 pixels.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define ST_PIXEL_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define ST_PIXEL_CLONES
+#endif
+ST_PIXEL_CLONES int maxOf(const uint8_t* p, int n) {
+  uint8_t m = 0;
+  for (int i = 0; i < n; ++i) m = std::max(m, p[i]);
+  return m;
+}
+ST_PIXEL_CLONES int maxOf(const uint16_t* p, int n) {
+  uint16_t m = 0;
+  for (int i = 0; i < n; ++i) m = std::max(m, p[i]);
+  return m;
+}
+
 // A patch over `r` whose values live in a per-thread buffer: no allocation per star once the
 // buffer has grown to the largest window (valid until the next call on this thread).
 template <typename T>
@@ -266,8 +284,7 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
     const T* row = grey.ptr<T>(y);
     // The row's maximum without branches (vectorised), its position only when it is a new
     // peak: a compare-and-remember per pixel mispredicts on noise.
-    int row_max = 0;
-    for (int x = win.x; x < win.x + win.width; ++x) row_max = std::max(row_max, int{row[x]});
+    const int row_max = maxOf(row + win.x, win.width);
     if (row_max > best) {
       best = row_max;
       pk = {static_cast<int>(std::find(row + win.x, row + win.x + win.width, row_max) - row), y};

@@ -9,6 +9,9 @@ namespace {
 
 // Flat weights (CoG) in one pass: with d_i = p_i - x the sums of the header expand into raw
 // moments in window coordinates (small numbers, no cancellation), accumulated per row.
+#if defined(__GNUC__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 bool flatCentroid(const StarPatch& patch, Centroid& out, std::string* reason) {
   const cv::Mat1f& v = patch.values;
   const double b = patch.background, var0 = patch.sigma_bg * patch.sigma_bg;
@@ -18,28 +21,51 @@ bool flatCentroid(const StarPatch& patch, Centroid& out, std::string* reason) {
   double S0 = 0, Sx = 0, Sy = 0;                        // sum s, s c, s r
   double V0 = 0, Vx = 0, Vy = 0, Vxx = 0, Vxy = 0, Vyy = 0;  // sum var * (1, c, r, c^2, c r, r^2)
   double peak = -1e300;
+  // Four columns at a time in separate partial sums (lanes): a reduction the compiler may
+  // not reorder otherwise stays scalar, and this loop runs for every tracking window.
+  constexpr int L = 4;
   for (int r = 0; r < v.rows; ++r) {
     const float* row = v[r];
-    double s0 = 0, sx = 0, v0 = 0, vx = 0, vxx = 0;
-    for (int c = 0; c < v.cols; ++c) {
+    double s0[L] = {}, sx[L] = {}, v0[L] = {}, vx[L] = {}, vxx[L] = {}, pk[L];
+    for (int j = 0; j < L; ++j) pk[j] = -1e300;
+    int c = 0;
+    for (; c + L <= v.cols; c += L) {
+      for (int j = 0; j < L; ++j) {
+        const double cc = c + j;
+        const double s = row[c + j] - b;
+        const double var = var0 + std::max(s, 0.0) * inv_gain;
+        s0[j] += s;
+        sx[j] += s * cc;
+        v0[j] += var;
+        vx[j] += var * cc;
+        vxx[j] += var * cc * cc;
+        pk[j] = std::max(pk[j], s);
+      }
+    }
+    for (; c < v.cols; ++c) {  // the remainder in lane 0
       const double s = row[c] - b;
       const double var = var0 + std::max(s, 0.0) * inv_gain;
-      s0 += s;
-      sx += s * c;
-      v0 += var;
-      vx += var * c;
-      vxx += var * c * c;
-      peak = std::max(peak, s);
+      s0[0] += s;
+      sx[0] += s * c;
+      v0[0] += var;
+      vx[0] += var * c;
+      vxx[0] += var * c * c;
+      pk[0] = std::max(pk[0], s);
     }
-    S0 += s0;
-    Sx += sx;
-    Sy += s0 * r;
-    V0 += v0;
-    Vx += vx;
-    Vy += v0 * r;
-    Vxx += vxx;
-    Vxy += vx * r;
-    Vyy += v0 * r * r;
+    for (int j = 1; j < L; ++j) {
+      s0[0] += s0[j], sx[0] += sx[j], v0[0] += v0[j], vx[0] += vx[j], vxx[0] += vxx[j];
+      pk[0] = std::max(pk[0], pk[j]);
+    }
+    peak = std::max(peak, pk[0]);
+    S0 += s0[0];
+    Sx += sx[0];
+    Sy += s0[0] * r;
+    V0 += v0[0];
+    Vx += vx[0];
+    Vy += v0[0] * r;
+    Vxx += vxx[0];
+    Vxy += vx[0] * r;
+    Vyy += v0[0] * r * r;
   }
   if (!(S0 > 0)) {
     if (reason) *reason = "no flux above background";
