@@ -8,8 +8,11 @@
 //  - the same with tight coupling (2-4 star vectors per frame instead of a fix).
 //
 // About ">= 95 % of steps inside the 95 % band": for an exactly consistent filter the EXPECTED
-// fraction is 95 %, so the literal criterion is a coin flip (over 7 seed sets this filter gave
-// NEES 91.6-98.9 %, NIS 93.1-95.6 %). The test therefore asserts the one-sided 99 % lower
+// fraction is 95 %, so the literal criterion is a coin flip. Over 12 disjoint seed sets
+// (ST_MC_SEED = 0, 50, ..., 550) this filter gave, with fixes: NEES 81.0-98.9 % (mean 93.4,
+// >= 95 % in 5 of 12), NIS 93.3-95.2 % (mean 94.3, 2 of 12); with star vectors: NEES
+// 82.5-99.1 % (mean 93.2), NIS 93.2-96.1 % (mean 95.0, 8 of 12); the mean NEES of a set
+// 5.47-6.37 (6 expected). The test therefore asserts the one-sided 99 % lower
 // confidence limit of that fraction under a consistent filter, derived from its sampling
 // distribution, and prints the literal fraction:
 //  - NIS: innovations of a consistent filter are white, so the per-update indicators are
@@ -18,7 +21,9 @@
 //    seconds), so the fraction's variance comes from 6 batch means of 30 s each:
 //    bound = 0.95 - t(0.99, 5) s_batch / sqrt(6), t(0.99, 5) = 3.365.
 // The mistuned filters land near 0 % and fail by a wide margin.
-// Env: ST_MC_SEED=<offset> reruns with other seeds; ST_MC_DEBUG=1 prints NEES per 10 s.
+// Env: ST_MC_SEED=<offset> reruns with other seeds (run r uses seeds 1000 + r + offset and
+// 5000 + r + offset: offsets 50 apart give disjoint sets); ST_MC_DEBUG=1 prints NEES and NIS
+// per 10 s.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -260,8 +265,12 @@ void print(const char* name, const McResult& r) {
         std::printf("  NIS var %.4f (theory %.4f), above %d below %d\n", m2,
                     2.0 * r.nis_dof[0] / kRuns, ab, be);
       }
-      std::printf("  t %3d-%3d s: mean NEES %.2f, above %d, below %d\n", seg * 10, seg * 10 + 10, m,
-                  above, below);
+      double nis_m = 0;  // the 50 updates of this 10 s (5 Hz)
+      int nis_n = 0;
+      for (std::size_t i = seg * 50u; i < r.nis.size() && i < (seg + 1) * 50u; ++i, ++nis_n)
+        nis_m += r.nis[i];
+      std::printf("  t %3d-%3d s: mean NEES %.2f, above %d, below %d; mean NIS %.3f\n", seg * 10,
+                  seg * 10 + 10, m, above, below, nis_n ? nis_m / nis_n : 0.0);
     }
   }
   std::printf(
