@@ -31,6 +31,9 @@ struct StarPatch {
   double saturation = 1e30;  ///< [ADU] pixels at or above are excluded where possible
   double psf_sigma = 1;      ///< [px] PSF sigma guess (> 0)
   Vec2 guess = Vec2::Zero();  ///< [px] image coordinates of a first position (e.g. the peak)
+  /// [px] motion of the star during the exposure when known (tracking: from the gyro rate),
+  /// else zero. A model-fitting centroider whose PSF is round widens the covariance along it.
+  Vec2 smear = Vec2::Zero();
 
   /// Variance [ADU^2] of a pixel whose background-subtracted expected signal is `s`.
   double variance(double s) const { return sigma_bg * sigma_bg + (s > 0 ? s / gain : 0.0); }

@@ -383,6 +383,7 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
       psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
     }
     StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+    patch.smear = p.blur_px;
     // Variance of the ring median: pi/2 sigma^2 / n for Gaussian noise.
     patch.background_var = 0.5 * M_PI * sb * sb / static_cast<double>(ring.size());
     Centroid star;
