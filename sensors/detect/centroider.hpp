@@ -34,6 +34,7 @@ struct StarPatch {
   /// [px] motion of the star during the exposure when known (tracking: from the gyro rate),
   /// else zero. A model-fitting centroider whose PSF is round widens the covariance along it.
   Vec2 smear = Vec2::Zero();
+  bool reject_spikes = false;  ///< a model fit may drop single-pixel outliers (hot pixels)
 
   /// Variance [ADU^2] of a pixel whose background-subtracted expected signal is `s`.
   double variance(double s) const { return sigma_bg * sigma_bg + (s > 0 ? s / gain : 0.0); }

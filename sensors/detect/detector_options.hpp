@@ -55,6 +55,10 @@ struct DetectorOptions {
   std::string centroider = "gauss";  ///< "cog", "iwc" or "gauss" (see centroider.hpp)
   double psf_sigma_px = 0.0;  ///< [px] PSF sigma guess; 0 = estimate per star from moments
   int window_margin_px = 2;   ///< [px] added around a blob's box for the centroid window
+  /// "gauss": drop single-pixel spikes far above the fitted PSF (hot pixels, cosmic rays on
+  /// a star's wing) and fit again; see gauss_fit.cpp. Off by default: it needs saturation_adu
+  /// right (a star clipped below the assumed level has a top that looks like spikes).
+  bool reject_spikes = false;
 
   // --- predictive windows (seed 004 §4.2.3) ---
   double window_sigmas = 3.0;  ///< half-size = window_sigmas*sqrt(max eig cov) + PSF radius

@@ -49,6 +49,11 @@ constexpr double kStepTolPx = 1e-3;
 constexpr double kStepTolSigma = 1e-2;
 constexpr double kStepTolChi2 = 0.1 * 0.1;
 constexpr double kMaxRate2 = 0.25;  // contraction r < 0.5 per step before r is trusted
+// A single-pixel spike more than 8 sigma above the fitted model is not the star's: Gaussian
+// noise never gets there (1e-15 per pixel), and what the round model misses of a bright
+// smeared star reaches 6-7 sigma at the ends of the smear (measured), spread over neighbours.
+constexpr double kOutlierSigma = 8.0;
+constexpr int kMaxOutliers = 2;
 
 // 5x5 symmetric matrices and vectors as plain arrays (parameters x, y, F, B, s).
 using M5 = double[5][5];
@@ -111,6 +116,11 @@ struct Work {
   std::vector<double> w_cur, w_trial;                // per-pixel weights
   std::vector<double> fx, dx, sx, fy, dy, sy;        // f, df/dc, df/ds per column / row
   std::vector<double> pdd, pdf, pds, pff, pfs, pss;  // column products for the sums below
+  double usable() const {  // pixels in the fit
+    double n = 0;
+    for (double u : use) n += u;
+    return n;
+  }
   void reset(const StarPatch& P) {
     cols = P.values.cols;
     rows = P.values.rows;
@@ -415,6 +425,60 @@ bool finite5(const V5& v) {
   return true;
 }
 
+// Marks the worst outlier pixel at p unusable: a single-pixel spike (a hot pixel, a cosmic
+// ray) more than kOutlierSigma above the model (variance from the model, as the fit weighs
+// it) and more than twice any of its four neighbours' excess, all of them usable. Only
+// positive spikes: they add light. What the round model misses of a real star (a smear, an
+// undersampled core: spread over neighbouring pixels) stays. Not safe on a star clipped at a
+// saturation level the options do not know (read noise after the clip makes its flat top
+// look like spikes of tens of sigma, measured): hence off by default (DetectorOptions).
+bool dropOutlier(const StarPatch& P, const V5& p, Work& W) {
+  pixelGaussianRow(W.cols, P.origin.x, p[0], p[4], W.fx.data(), W.dx.data(), W.sx.data());
+  pixelGaussianRow(W.rows, P.origin.y, p[1], p[4], W.fy.data(), W.dy.data(), W.sy.data());
+  const double sb2 = P.sigma_bg * P.sigma_bg, inv_gain = 1.0 / P.gain;
+  const int rows = W.rows, cols = W.cols;
+  thread_local std::vector<double> res, z2;
+  res.assign(static_cast<std::size_t>(rows * cols), 0.0);
+  z2.assign(res.size(), 0.0);  // zero where the pixel is not a candidate
+  auto slot = [&](int r, int c) {  // pixel (r, c) in the interleaved buffers
+    return static_cast<std::size_t>((r / kLanes) * cols * kLanes + r % kLanes + c * kLanes);
+  };
+  for (int r = 0; r < rows; ++r) {
+    const double Ffy = p[2] * W.fy[static_cast<std::size_t>(r)];
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = slot(r, c), k = static_cast<std::size_t>(r * cols + c);
+      const double m = Ffy * W.fx[static_cast<std::size_t>(c)];
+      res[k] = W.use[i] > 0 ? W.val[i] - p[3] - m : 0.0;
+      z2[k] = res[k] > 0 ? res[k] * res[k] / (sb2 + std::max(m, 0.0) * inv_gain) : 0.0;
+    }
+  }
+  double worst = kOutlierSigma * kOutlierSigma;
+  int at = -1;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t k = static_cast<std::size_t>(r * cols + c);
+      if (!(z2[k] > worst)) continue;
+      double nb = 0;
+      bool usable = true;
+      auto neighbour = [&](int rr, int cc) {
+        if (rr < 0 || rr >= rows || cc < 0 || cc >= cols) return;
+        nb = std::max(nb, res[static_cast<std::size_t>(rr * cols + cc)]);
+        usable = usable && W.use[slot(rr, cc)] > 0;
+      };
+      neighbour(r - 1, c);
+      neighbour(r + 1, c);
+      neighbour(r, c - 1);
+      neighbour(r, c + 1);
+      if (usable && res[k] > 2.0 * nb) {
+        worst = z2[k];
+        at = r * cols + c;
+      }
+    }
+  if (at < 0) return false;
+  W.use[slot(at / cols, at % cols)] = 0;
+  return true;
+}
+
 class GaussFitCentroider final : public Centroider {
  public:
   std::string name() const override { return "gauss"; }
@@ -460,50 +524,63 @@ class GaussFitCentroider final : public Centroider {
     double* w_cur = work.w_cur.data();
     double* w_trial = work.w_trial.data();
     Normal N, T;
-    evaluate(P, p, work, w_cur, w_trial /* zeros: no previous weights */, N);
-    double lambda = 1e-3;
-    double gd_prev = 0;  // predicted chi2 decrease of the last accepted step
-    for (int it = 0; it < kMaxTrials; ++it) {
-      M5 A;
-      Ldl5 L;
-      std::copy(&N.H[0][0], &N.H[0][0] + 25, &A[0][0]);
-      for (int k = 0; k < 5; ++k) A[k][k] *= 1.0 + lambda;
-      V5 d;
-      if (!factorLdl5(A, L)) {
-        lambda *= 10;
-        if (lambda > 1e8) break;
-        continue;
+    // Levenberg-Marquardt from p; N holds the normal equations at the last accepted estimate.
+    auto fit = [&] {
+      evaluate(P, p, work, w_cur, w_trial /* no previous weights: chi2_prev unused */, N);
+      double lambda = 1e-3;
+      double gd_prev = 0;  // predicted chi2 decrease of the last accepted step
+      for (int it = 0; it < kMaxTrials; ++it) {
+        M5 A;
+        Ldl5 L;
+        std::copy(&N.H[0][0], &N.H[0][0] + 25, &A[0][0]);
+        for (int k = 0; k < 5; ++k) A[k][k] *= 1.0 + lambda;
+        V5 d;
+        if (!factorLdl5(A, L)) {
+          lambda *= 10;
+          if (lambda > 1e8) break;
+          continue;
+        }
+        ldlSolve5(L, N.g, d);
+        if (!finite5(d)) break;
+        V5 q;
+        for (int k = 0; k < 5; ++k) q[k] = p[k] + d[k];
+        q[4] = std::clamp(q[4], 0.25, 20.0);
+        double gd = 0;
+        for (int k = 0; k < 5; ++k) gd += N.g[k] * d[k];
+        // Error left after taking d: the next step, r * d with r^2 ~ gd / gd_prev (the
+        // measured contraction of the last step, trusted once it is clearly contracting).
+        const double rate2 = gd_prev > 0 ? gd / gd_prev : 1.0;
+        if ((d[0] * d[0] + d[1] * d[1] < kStepTolPx * kStepTolPx &&
+             std::abs(d[4]) < kStepTolSigma) ||
+            gd < kStepTolChi2 || (rate2 < kMaxRate2 && gd * rate2 < kStepTolChi2)) {
+          std::copy(q, q + 5, p);  // converged: the last step is too small to need checking
+          break;
+        }
+        evaluate(P, q, work, w_trial, w_cur, T);
+        // Accept when the chi2 with the current weights does not grow (a fixed weighted
+        // least-squares problem on both sides of the comparison).
+        if (T.chi2_prev <= N.chi2_self + 1e-12) {
+          std::copy(q, q + 5, p);
+          N = T;
+          std::swap(w_cur, w_trial);
+          gd_prev = gd;
+          lambda = std::max(lambda * 0.1, 1e-7);
+        } else {
+          lambda *= 10;
+          if (lambda > 1e8) break;
+        }
       }
-      ldlSolve5(L, N.g, d);
-      if (!finite5(d)) break;
-      V5 q;
-      for (int k = 0; k < 5; ++k) q[k] = p[k] + d[k];
-      q[4] = std::clamp(q[4], 0.25, 20.0);
-      double gd = 0;
-      for (int k = 0; k < 5; ++k) gd += N.g[k] * d[k];
-      // Error left after taking d: the next step, r * d with r^2 ~ gd / gd_prev (the measured
-      // contraction of the last step, trusted once it is clearly contracting).
-      const double rate2 = gd_prev > 0 ? gd / gd_prev : 1.0;
-      if ((d[0] * d[0] + d[1] * d[1] < kStepTolPx * kStepTolPx &&
-           std::abs(d[4]) < kStepTolSigma) ||
-          gd < kStepTolChi2 || (rate2 < kMaxRate2 && gd * rate2 < kStepTolChi2)) {
-        std::copy(q, q + 5, p);  // converged: the last step is too small to need checking
-        break;
-      }
-      evaluate(P, q, work, w_trial, w_cur, T);
-      // Accept when the chi2 with the current weights does not grow (a fixed weighted
-      // least-squares problem on both sides of the comparison).
-      if (T.chi2_prev <= N.chi2_self + 1e-12) {
-        std::copy(q, q + 5, p);
-        N = T;
-        std::swap(w_cur, w_trial);
-        gd_prev = gd;
-        lambda = std::max(lambda * 0.1, 1e-7);
-      } else {
-        lambda *= 10;
-        if (lambda > 1e8) break;
-      }
-    }
+    };
+    fit();
+    // A pixel the model cannot explain (a hot pixel, a cosmic ray) pulls the fit towards it:
+    // drop the worst pixel beyond kOutlierSigma and fit again, a few times at most.
+    // Looked for only when the fit's chi2 is high enough to hold one: an 8-sigma pixel adds
+    // 64 to it, a good fit gives n - 5 +- sqrt(2 (n - 5)); the search costs a pass.
+    for (int dropped = 0; P.reject_spikes && dropped < kMaxOutliers && finite5(p) &&
+                          N.chi2_self > work.usable() - 5 + 0.5 * kOutlierSigma * kOutlierSigma &&
+                          dropOutlier(P, p, work);
+         ++dropped)
+      fit();
     if (!finite5(p) || !(p[2] > 0) || p[0] < ox - 0.5 || p[1] < oy - 0.5 ||
         p[0] > ox + v.cols - 0.5 || p[1] > oy + v.rows - 0.5 || p[4] >= 20.0) {
       if (reason) *reason = "PSF fit diverged";

@@ -131,6 +131,7 @@ StarPatch makePatch(const cv::Mat& grey, const cv::Rect& r, double bg, double si
   p.saturation = sat;
   p.psf_sigma = psf;
   p.guess = guess;
+  p.reject_spikes = opts.reject_spikes;
   return p;
 }
 
