@@ -525,7 +525,12 @@ class GaussFitCentroider final : public Centroider {
     double* w_trial = work.w_trial.data();
     Normal N, T;
     // Levenberg-Marquardt from p; N holds the normal equations at the last accepted estimate.
+    // The factor of the converged step's normal equations, for the covariance when their
+    // damping is negligible (<= 1e-4 relative: the covariance is then off by <= 0.01 %).
+    Ldl5 converged;
+    bool have_converged = false;
     auto fit = [&] {
+      have_converged = false;
       evaluate(P, p, work, w_cur, w_trial /* no previous weights: chi2_prev unused */, N);
       double lambda = 1e-3;
       double gd_prev = 0;  // predicted chi2 decrease of the last accepted step
@@ -554,6 +559,8 @@ class GaussFitCentroider final : public Centroider {
              std::abs(d[4]) < kStepTolSigma) ||
             gd < kStepTolChi2 || (rate2 < kMaxRate2 && gd * rate2 < kStepTolChi2)) {
           std::copy(q, q + 5, p);  // converged: the last step is too small to need checking
+          converged = L;
+          have_converged = lambda <= 1e-4;
           break;
         }
         evaluate(P, q, work, w_trial, w_cur, T);
@@ -587,10 +594,10 @@ class GaussFitCentroider final : public Centroider {
       return false;
     }
     // Covariance: the inverse of the Fisher information J^T W J (Cramer-Rao), columns x, y, F.
-    Ldl5 L;
+    Ldl5 L = converged;
     V5 cx, cy, cf;
     const V5 ex = {1, 0, 0, 0, 0}, ey = {0, 1, 0, 0, 0}, ef = {0, 0, 1, 0, 0};
-    if (!factorLdl5(N.H, L)) {
+    if (!have_converged && !factorLdl5(N.H, L)) {
       if (reason) *reason = "PSF fit singular";
       return false;
     }
