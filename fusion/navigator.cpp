@@ -138,7 +138,7 @@ TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg
               "loss_probability", "consistency_probability", "max_failed_frames",
               "gain_e_per_adu", "read_noise_adu", "threshold_sigma", "centroider",
               "psf_sigma_px", "max_stars", "identify_max_stars", "pair_sigma", "sensor_label",
-              "reject_spikes"});
+              "reject_spikes", "drop_saturated"});
   r.onlyKeys("database", {"path", "catalog", "mag_limit", "epoch_jyear", "aberration"});
 
   NavigatorOptions& n = c.nav;
@@ -187,6 +187,7 @@ TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg
   p.detect.threshold_sigma = r.num("pipeline", "threshold_sigma", p.detect.threshold_sigma);
   p.detect.centroider = r.str("pipeline", "centroider", p.detect.centroider);
   p.detect.reject_spikes = r.boolean("pipeline", "reject_spikes", p.detect.reject_spikes);
+  p.drop_saturated = r.boolean("pipeline", "drop_saturated", p.drop_saturated);
   p.detect.psf_sigma_px = r.num("pipeline", "psf_sigma_px", p.detect.psf_sigma_px);
   p.detect.max_stars = r.integer("pipeline", "max_stars", p.detect.max_stars);
   p.identify.max_stars = r.integer("pipeline", "identify_max_stars", p.identify.max_stars);

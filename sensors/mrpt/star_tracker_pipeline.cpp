@@ -494,6 +494,23 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
     gated_d2.push_back(d2);
   }
   out.num_blobs = with_centroid;
+  if (opts_.drop_saturated) {
+    std::size_t unsaturated = 0;
+    for (const Centroid& c : gated) unsaturated += !(c.flags & kSaturated);
+    if (int(unsaturated) >= opts_.min_tracked_stars && unsaturated < gated.size()) {
+      std::size_t w = 0;
+      for (std::size_t k = 0; k < gated.size(); ++k) {
+        if (gated[k].flags & kSaturated) continue;
+        gated[w] = gated[k];
+        gated_cand[w] = gated_cand[k];
+        gated_d2[w] = gated_d2[k];
+        ++w;
+      }
+      gated.resize(w);
+      gated_cand.resize(w);
+      gated_d2.resize(w);
+    }
+  }
   const auto t3 = Clock::now();
   out.timings.identify = seconds(t0, t1) + seconds(t2, t3);
 

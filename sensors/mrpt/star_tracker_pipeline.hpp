@@ -87,6 +87,11 @@ struct PipelineOptions {
   std::string solver = "quest";   ///< Wahba solver while tracking
   int max_tracked_stars = 20;     ///< windows per frame (brightest predicted stars)
   int min_tracked_stars = 4;      ///< fewer gated stars -> failed frame
+  /// Leave saturated stars out of the tracking fix while at least min_tracked_stars others
+  /// remain: the fit rests on their wings, and their errors exceed the covariance it reports
+  /// (one-hour run, 8-bit frames with Sirius in view: raw fixes' NEES 93.9 % below the chi2(3)
+  /// 95 % point with them, 95.5 % without, for 4 % more error).
+  bool drop_saturated = true;
   double gate_sigma = 3.0;        ///< Mahalanobis gate (3 -> 3 sqrt(2) sigma, seed 002)
   double edge_margin_px = 4.0;    ///< predicted stars closer to the border are not windowed
   /// Predicted stars closer than this to another catalog star are not windowed: their

@@ -149,6 +149,7 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   has_read_noise_ = readIf(cfg, section, "read_noise_adu", o.detect.read_noise_adu, num);
   readIf(cfg, section, "centroider", o.detect.centroider, str);
   readIf(cfg, section, "reject_spikes", o.detect.reject_spikes, boolean);
+  readIf(cfg, section, "drop_saturated", o.drop_saturated, boolean);
   readIf(cfg, section, "max_stars", o.detect.max_stars, integer);
   try {
     o.validate();
