@@ -30,7 +30,9 @@ struct StarPatch {
   double gain = 1;           ///< [e-/ADU]
   double saturation = 1e30;  ///< [ADU] pixels at or above are excluded where possible
   double psf_sigma = 1;      ///< [px] PSF sigma guess (> 0)
-  Vec2 guess = Vec2::Zero();  ///< [px] image coordinates of a first position (e.g. the peak)
+  /// [px] image coordinates of a first position (the centre of light above the threshold, or
+  /// the peak)
+  Vec2 guess = Vec2::Zero();
   /// [px] motion of the star during the exposure when known (tracking: from the gyro rate),
   /// else zero. A model-fitting centroider whose PSF is round widens the covariance along it.
   Vec2 smear = Vec2::Zero();

@@ -221,7 +221,10 @@ DetectionResult measureBlobs(const cv::Mat& grey, const BackgroundModel& bg,
                  box.width + 2 * opts.window_margin_px, box.height + 2 * opts.window_margin_px);
     win |= cv::Rect(c.peak.x - h, c.peak.y - h, 2 * h + 1, 2 * h + 1);
     win &= frame;
-    StarPatch patch = makePatch<T>(grey, win, b, sb, sat, psf, Vec2(c.peak.x, c.peak.y), opts);
+    // First position: the blob's centre of light (a model fit starts closer than from the
+    // window's centre of gravity, which the noise of every window pixel moves).
+    const Vec2 start = mom.sw > 0 ? Vec2(mom.sx / mom.sw, mom.sy / mom.sw) : Vec2(c.peak.x, c.peak.y);
+    StarPatch patch = makePatch<T>(grey, win, b, sb, sat, psf, start, opts);
     // Median of `background_samples` pixels per tile (16x that globally): pi/2 sigma^2 / n.
     patch.background_var = 0.5 * M_PI * sb * sb /
                            (opts.background_samples * (opts.background_tile_px > 0 ? 1.0 : 16.0));
@@ -383,7 +386,9 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
       if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
       psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
     }
-    StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, Vec2(pk.x, pk.y), opts);
+    const Vec2 start = !streak && mom.sw > 0 ? Vec2(mom.sx / mom.sw, mom.sy / mom.sw)
+                                             : Vec2(pk.x, pk.y);  // as in measureBlobs
+    StarPatch patch = makePatch<T>(grey, cw, b, sb, sat, psf, start, opts);
     patch.smear = p.blur_px;
     // Variance of the ring median: pi/2 sigma^2 / n for Gaussian noise.
     patch.background_var = 0.5 * M_PI * sb * sb / static_cast<double>(ring.size());
