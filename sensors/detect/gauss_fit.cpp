@@ -121,27 +121,49 @@ struct Work {
     for (double u : use) n += u;
     return n;
   }
-  void reset(const StarPatch& P) {
+  // Sums of the background-subtracted pixels for the start, taken while the pixels are
+  // copied (one pass).
+  struct Sums {
+    double sw = 0, sx = 0, sy = 0, peak = -1e300;
+    int unsaturated = 0;
+  };
+  Sums reset(const StarPatch& P) {
     cols = P.values.cols;
     rows = P.values.rows;
     quads = (rows + kLanes - 1) / kLanes;
     const std::size_t nr = static_cast<std::size_t>(quads) * kLanes;
     const std::size_t n = nr * static_cast<std::size_t>(cols);
+    // The weights need no clearing: every evaluation writes its own, and the "previous
+    // weights" the first one reads only enter a chi2 nobody uses.
     for (auto* v : {&val, &use, &w_cur, &w_trial}) v->resize(n);
     for (auto* v : {&fx, &dx, &sx, &pdd, &pdf, &pds, &pff, &pfs, &pss})
       v->resize(static_cast<std::size_t>(cols));
     for (auto* v : {&fy, &dy, &sy}) v->assign(nr, 0.0);
+    Sums S;
     for (int r = 0; r < static_cast<int>(nr); ++r) {
-      const float* in = r < rows ? P.values[r] : nullptr;
       double* pv = val.data() + static_cast<std::size_t>((r / kLanes) * cols * kLanes + r % kLanes);
       double* pu = use.data() + (pv - val.data());
-      double* pw = w_trial.data() + (pv - val.data());
-      for (int c = 0; c < cols; ++c, pv += kLanes, pu += kLanes, pw += kLanes) {
-        *pv = in ? in[c] : 0.0;
-        *pu = in && in[c] < P.saturation ? 1.0 : 0.0;  // clipped: no shape information
-        *pw = 0;  // "previous weights" of the first evaluation
+      if (r >= rows) {  // padding: unusable
+        for (int c = 0; c < cols; ++c, pv += kLanes, pu += kLanes) *pv = *pu = 0.0;
+        continue;
       }
+      const float* in = P.values[r];
+      double rs = 0, rx = 0;
+      for (int c = 0; c < cols; ++c, pv += kLanes, pu += kLanes) {
+        const bool ok = in[c] < P.saturation;  // clipped: no shape information
+        *pv = in[c];
+        *pu = ok ? 1.0 : 0.0;
+        S.unsaturated += ok;
+        const double s = in[c] - P.background;
+        rs += s;
+        rx += s * c;
+        S.peak = std::max(S.peak, s);
+      }
+      S.sw += rs;
+      S.sx += rx;
+      S.sy += rs * r;
     }
+    return S;
   }
 };
 
@@ -488,22 +510,10 @@ class GaussFitCentroider final : public Centroider {
     const cv::Mat1f& v = P.values;
     const double ox = P.origin.x, oy = P.origin.y;
     // Start: the background-subtracted centre of gravity (seed 004 eq. 4.1), flux its sum.
-    double sw = 0, sx = 0, sy = 0, peak = -1e300;
-    int unsaturated = 0;
-    for (int r = 0; r < v.rows; ++r) {
-      const float* row = v[r];
-      double rs = 0, rx = 0;
-      for (int c = 0; c < v.cols; ++c) {
-        const double s = row[c] - P.background;
-        rs += s;
-        rx += s * c;
-        peak = std::max(peak, s);
-        unsaturated += row[c] < P.saturation;
-      }
-      sw += rs;
-      sx += rx;
-      sy += rs * r;
-    }
+    thread_local Work work;
+    const Work::Sums start = work.reset(P);
+    const double sw = start.sw, sx = start.sx, sy = start.sy, peak = start.peak;
+    const int unsaturated = start.unsaturated;
     if (!(sw > 0)) {
       if (reason) *reason = "no flux above background";
       return false;
@@ -526,39 +536,39 @@ class GaussFitCentroider final : public Centroider {
       if (reason) *reason = "too few unsaturated pixels to fit";
       return false;
     }
-    thread_local Work work;
-    work.reset(P);
     double* w_cur = work.w_cur.data();
     double* w_trial = work.w_trial.data();
-    Normal N, T;
+    // The normal equations at the estimate (N) and at a trial (T): swapped, not copied.
+    Normal nbuf[2];
+    Normal* N = &nbuf[0];
+    Normal* T = &nbuf[1];
     // Levenberg-Marquardt from p; N holds the normal equations at the last accepted estimate.
     // The factor of the converged step's normal equations, for the covariance when their
     // damping is negligible (<= 1e-4 relative: the covariance is then off by <= 0.01 %).
-    Ldl5 converged;
+    Ldl5 factor;  // of the damped normal equations of the last trial
     bool have_converged = false;
     auto fit = [&] {
       have_converged = false;
-      evaluate(P, p, work, w_cur, w_trial /* no previous weights: chi2_prev unused */, N);
+      evaluate(P, p, work, w_cur, w_trial /* no previous weights: chi2_prev unused */, *N);
       double lambda = 1e-3;
       double gd_prev = 0;  // predicted chi2 decrease of the last accepted step
       for (int it = 0; it < kMaxTrials; ++it) {
         M5 A;
-        Ldl5 L;
-        std::copy(&N.H[0][0], &N.H[0][0] + 25, &A[0][0]);
+        std::copy(&N->H[0][0], &N->H[0][0] + 25, &A[0][0]);
         for (int k = 0; k < 5; ++k) A[k][k] *= 1.0 + lambda;
         V5 d;
-        if (!factorLdl5(A, L)) {
+        if (!factorLdl5(A, factor)) {
           lambda *= 10;
           if (lambda > 1e8) break;
           continue;
         }
-        ldlSolve5(L, N.g, d);
+        ldlSolve5(factor, N->g, d);
         if (!finite5(d)) break;
         V5 q;
         for (int k = 0; k < 5; ++k) q[k] = p[k] + d[k];
         q[4] = std::clamp(q[4], 0.25, 20.0);
         double gd = 0;
-        for (int k = 0; k < 5; ++k) gd += N.g[k] * d[k];
+        for (int k = 0; k < 5; ++k) gd += N->g[k] * d[k];
         // Error left after taking d: the next step, r * d with r^2 ~ gd / gd_prev (the
         // measured contraction of the last step, trusted once it is clearly contracting).
         const double rate2 = gd_prev > 0 ? gd / gd_prev : 1.0;
@@ -566,16 +576,15 @@ class GaussFitCentroider final : public Centroider {
              std::abs(d[4]) < kStepTolSigma) ||
             gd < kStepTolChi2 || (rate2 < kMaxRate2 && gd * rate2 < kStepTolChi2)) {
           std::copy(q, q + 5, p);  // converged: the last step is too small to need checking
-          converged = L;
           have_converged = lambda <= 1e-4;
           break;
         }
-        evaluate(P, q, work, w_trial, w_cur, T);
+        evaluate(P, q, work, w_trial, w_cur, *T);
         // Accept when the chi2 with the current weights does not grow (a fixed weighted
         // least-squares problem on both sides of the comparison).
-        if (T.chi2_prev <= N.chi2_self + 1e-12) {
+        if (T->chi2_prev <= N->chi2_self + 1e-12) {
           std::copy(q, q + 5, p);
-          N = T;
+          std::swap(N, T);
           std::swap(w_cur, w_trial);
           gd_prev = gd;
           lambda = std::max(lambda * 0.1, 1e-7);
@@ -591,7 +600,7 @@ class GaussFitCentroider final : public Centroider {
     // Looked for only when the fit's chi2 is high enough to hold one: an 8-sigma pixel adds
     // 64 to it, a good fit gives n - 5 +- sqrt(2 (n - 5)); the search costs a pass.
     for (int dropped = 0; P.reject_spikes && dropped < kMaxOutliers && finite5(p) &&
-                          N.chi2_self > work.usable() - 5 + 0.5 * kOutlierSigma * kOutlierSigma &&
+                          N->chi2_self > work.usable() - 5 + 0.5 * kOutlierSigma * kOutlierSigma &&
                           dropOutlier(P, p, work);
          ++dropped)
       fit();
@@ -601,10 +610,10 @@ class GaussFitCentroider final : public Centroider {
       return false;
     }
     // Covariance: the inverse of the Fisher information J^T W J (Cramer-Rao), columns x, y, F.
-    Ldl5 L = converged;
+    Ldl5& L = factor;
     V5 cx, cy, cf;
     const V5 ex = {1, 0, 0, 0, 0}, ey = {0, 1, 0, 0, 0}, ef = {0, 0, 1, 0, 0};
-    if (!have_converged && !factorLdl5(N.H, L)) {
+    if (!have_converged && !factorLdl5(N->H, L)) {
       if (reason) *reason = "PSF fit singular";
       return false;
     }
