@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/attitude.hpp"
+#include "sensors/detect/detector_options.hpp"
 #include "sensors/sim/psf.hpp"
 
 namespace st::test {
@@ -24,6 +25,14 @@ struct SimStar {
   Vec2 px;
   double flux_e;
 };
+
+/// Detector options with the camera's noise model (gain, read noise in ADU).
+inline DetectorOptions detectorOptionsFor(const SimCamera& cam) {
+  DetectorOptions o;
+  o.gain_e_per_adu = cam.gain;
+  o.read_noise_adu = cam.read_e / cam.gain;
+  return o;
+}
 
 /// Electrons image -> noisy 16-bit ADU frame.
 inline cv::Mat noisyFrame(const cv::Mat& electrons, const SimCamera& cam, std::mt19937_64& rng) {

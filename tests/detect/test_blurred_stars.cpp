@@ -25,9 +25,7 @@ BlurResult runBlurred(double blur, double flux_e, uint64_t seed, bool tell_windo
   test::SimCamera cam;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  DetectorOptions opts;
-  opts.gain_e_per_adu = cam.gain;
-  opts.read_noise_adu = cam.read_e / cam.gain;
+  DetectorOptions opts = test::detectorOptionsFor(cam);
   BlurResult r;
   for (int frame = 0; frame < 100; ++frame) {
     const double ang = 2 * M_PI * u(rng);

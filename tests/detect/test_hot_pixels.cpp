@@ -24,9 +24,7 @@ SpikeResult runSpikes(double spike_e, bool reject, uint64_t seed) {
   test::SimCamera cam;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  DetectorOptions opts;
-  opts.gain_e_per_adu = cam.gain;
-  opts.read_noise_adu = cam.read_e / cam.gain;
+  DetectorOptions opts = test::detectorOptionsFor(cam);
   opts.reject_spikes = reject;
   SpikeResult r;
   double s = 0, s2 = 0;

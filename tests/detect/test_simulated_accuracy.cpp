@@ -26,10 +26,8 @@ Trial runTrial(const std::string& centroider, double flux_e, uint64_t seed) {
   test::SimCamera cam;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  DetectorOptions opts;
+  DetectorOptions opts = test::detectorOptionsFor(cam);
   opts.centroider = centroider;
-  opts.gain_e_per_adu = cam.gain;
-  opts.read_noise_adu = cam.read_e / cam.gain;
   Trial t;
   for (int frame = 0; frame < 25; ++frame) {
     std::vector<test::SimStar> stars;
