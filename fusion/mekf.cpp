@@ -89,7 +89,17 @@ void AttitudeMekf::initialize(double t, const Quat& q_ib, const Vec3& bias, cons
   P_ = 0.5 * (P + P.transpose());
   last_rate_ = bias;  // no rotation until the first gyro sample
   initialized_ = true;
+  consecutive_rejections_ = 0;
   record(MekfStep::Event::kInit, nullptr);
+}
+
+void AttitudeMekf::resetAttitude(double t, const Quat& q_ib, const Mat3& attitude_cov) {
+  Mat6 P = Mat6::Zero();
+  P.topLeftCorner<3, 3>() = attitude_cov;
+  P.bottomRightCorner<3, 3>() = P_.bottomRightCorner<3, 3>();
+  const Vec3 rate = last_rate_;
+  initialize(t, q_ib, b_, P);
+  last_rate_ = rate;  // the gyro's last sample still holds through a gap
 }
 
 Mat6 AttitudeMekf::transition(const Vec3& w, double dt) {
@@ -193,6 +203,7 @@ void AttitudeMekf::applyUpdate(const Eigen::Matrix<double, Rows, 1>& y,
     out.accepted = false;
     out.reason = "innovation covariance not positive definite";
     ++rejected_;
+    ++consecutive_rejections_;
     return;
   }
   out.nis = y.dot(llt.solve(y));
@@ -201,6 +212,7 @@ void AttitudeMekf::applyUpdate(const Eigen::Matrix<double, Rows, 1>& y,
     out.reason = "chi-square gate: NIS " + std::to_string(out.nis) + " > " +
                  std::to_string(out.gate) + " (" + std::to_string(out.dof) + " dof)";
     ++rejected_;
+    ++consecutive_rejections_;
     return;
   }
   // K = P H^T S^-1
@@ -214,6 +226,7 @@ void AttitudeMekf::applyUpdate(const Eigen::Matrix<double, Rows, 1>& y,
   out.accepted = true;
   out.reason.clear();
   ++accepted_;
+  consecutive_rejections_ = 0;
 }
 
 Vec3 AttitudeMekf::starVectorModel(const Quat& q_ib, const Vec3& r_i,

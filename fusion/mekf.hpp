@@ -106,6 +106,11 @@ class AttitudeMekf {
                   const Vec3& bias = Vec3::Zero());
   void initialize(double t, const Quat& q_ib, const Vec3& bias, const Mat6& P);
   bool initialized() const { return initialized_; }
+  /// Re-initialisation after the filter and the sensor disagreed: the attitude restarts from
+  /// an independent fix (q_ib, 3x3 body covariance) at time t, the bias estimate and its
+  /// covariance are kept, and their correlation with the old attitude error is dropped (the
+  /// fix's error is independent of it). Precondition: initialized().
+  void resetAttitude(double t, const Quat& q_ib, const Mat3& attitude_cov);
 
   /// Propagates to t1 with the gyro's mean measured rate over [time(), t1] [rad/s].
   /// Returns false (filter unchanged, reason in *why) if not initialized or t1 <= time().
@@ -130,6 +135,10 @@ class AttitudeMekf {
   MekfStep step() const;
   int acceptedUpdates() const { return accepted_; }
   int rejectedUpdates() const { return rejected_; }
+  /// Updates rejected in a row since the last accepted one or (re)initialisation. A gate
+  /// alone can lock the filter out: when the prior dominates S, every later fix sees the
+  /// same prior error, so navigators re-initialise after a few (resetAttitude).
+  int consecutiveRejections() const { return consecutive_rejections_; }
   const MekfOptions& options() const { return opt_; }
   /// The gate threshold used for `dof` degrees of freedom.
   double gateThreshold(int dof) const;
@@ -166,7 +175,7 @@ class AttitudeMekf {
   Mat6 P_ = Mat6::Identity();
   Vec3 last_rate_ = Vec3::Zero();  ///< last gyro measurement (held through gaps)
   std::vector<double> gate_by_dof_;
-  int accepted_ = 0, rejected_ = 0;
+  int accepted_ = 0, rejected_ = 0, consecutive_rejections_ = 0;
   MekfStep::Event last_event_ = MekfStep::Event::kInit;
   MekfUpdateResult last_update_;
 };

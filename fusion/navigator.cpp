@@ -461,15 +461,11 @@ void Navigator::fillFilterState(NavStep& s, double t) const {
 void Navigator::initializeFrom(const CObservationStarTracker& fix, double t) {
   if (filter_.initialized()) {
     // Keep what the filter learned about the bias; the attitude restarts from the fix.
-    Mat6 P = Mat6::Zero();
-    P.topLeftCorner<3, 3>() = fix.cov_body;
-    P.bottomRightCorner<3, 3>() = filter_.covariance().bottomRightCorner<3, 3>();
-    filter_.initialize(t, fix.q_ib, filter_.bias(), P);
+    filter_.resetAttitude(t, fix.q_ib, fix.cov_body);
     ++reinits_;
   } else {
     filter_.initialize(t, fix.q_ib, fix.cov_body);
   }
-  consecutive_rejections_ = 0;
   reinit_pending_ = false;
 }
 
@@ -567,12 +563,10 @@ void Navigator::onCamera(const mrpt::obs::CObservation& obs, double t) {
       s.innovation_cov = u.innovation_cov;
       s.nis = u.nis;
       s.nis_dof = u.dof;
-      if (u.accepted) {
-        consecutive_rejections_ = 0;
-      } else {
+      if (!u.accepted) {
         if (!u.reason.empty()) s.reason += (s.reason.empty() ? "" : "; ") + u.reason;
-        if (++consecutive_rejections_ >= opts_.reinit_after_rejections) {
-          warn(std::to_string(consecutive_rejections_) +
+        if (filter_.consecutiveRejections() >= opts_.reinit_after_rejections) {
+          warn(std::to_string(filter_.consecutiveRejections()) +
                " star-tracker fixes in a row rejected by the filter at " + fmtTime(t) +
                ": re-initialising from lost-in-space");
           if (lis) {

@@ -221,7 +221,6 @@ class Navigator {
   std::array<Vec3, 10> recent_rates_{};  // ring of the last gyro rates (coasting)
   std::size_t recent_next_ = 0;
   bool in_gap_ = false;
-  int consecutive_rejections_ = 0;
   bool reinit_pending_ = false;
   int reinits_ = 0;
 

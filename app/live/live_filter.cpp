@@ -53,11 +53,13 @@ void LiveFilter::feed(const mrpt::obs::CObservation& obs) {
   const auto* fix = dynamic_cast<const CObservationStarTracker*>(&obs);
   if (!fix || !fix->hasAttitude()) return;
   ++stats_.fixes;
-  if (!filter_.initialized() || consecutive_rejections_ >= opts_.reinit_after_rejections) {
-    if (filter_.initialized()) ++stats_.reinits;
-    const Vec3 bias = filter_.initialized() ? filter_.bias() : Vec3::Zero();
-    filter_.initialize(t, fix->q_ib, fix->cov_body, bias);
-    consecutive_rejections_ = 0;
+  if (!filter_.initialized()) {
+    filter_.initialize(t, fix->q_ib, fix->cov_body);
+    return;
+  }
+  if (filter_.consecutiveRejections() >= opts_.reinit_after_rejections) {
+    ++stats_.reinits;
+    filter_.resetAttitude(t, fix->q_ib, fix->cov_body);
     return;
   }
   if (t < filter_.time()) {  // processed later than the reorder window allowed
@@ -66,13 +68,7 @@ void LiveFilter::feed(const mrpt::obs::CObservation& obs) {
   }
   if (t > filter_.time()) filter_.predictTo(t);
   const MekfUpdateResult r = filter_.updateAttitude(fix->q_ib, fix->cov_body);
-  if (r.accepted) {
-    ++stats_.accepted;
-    consecutive_rejections_ = 0;
-  } else {
-    ++stats_.rejected;
-    ++consecutive_rejections_;
-  }
+  ++(r.accepted ? stats_.accepted : stats_.rejected);
 }
 
 // GCC 12 reports a false "may be used uninitialized" inside Eigen's AVX code when the filter

@@ -63,7 +63,6 @@ class LiveFilter {
   std::optional<mrpt::Clock::time_point> t0_;
   std::multimap<mrpt::Clock::time_point, mrpt::obs::CObservation::Ptr> buffer_;
   Vec3 last_rate_ = Vec3::Zero();
-  int consecutive_rejections_ = 0;
   Stats stats_;
 };
 

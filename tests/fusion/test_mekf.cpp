@@ -251,6 +251,39 @@ TEST(Mekf, GateRejectsOutliersAndCountsThem) {
   EXPECT_NEAR(f.gateThreshold(3), chiSquareQuantile(0.999, 3), 1e-12);
 }
 
+// The lock-out a gate alone allows: the filter's prior is 5 sigma off and dominates S, so
+// every later fix of the true attitude is rejected too; resetAttitude restarts the attitude
+// from a fix while keeping the bias estimate and its covariance.
+TEST(Mekf, GateLockOutIsCountedAndResetAttitudeRecovers) {
+  AttitudeMekf f(MekfOptions::fromDatasheet(0.3, 3.0, 20));
+  const double sigma = 1e-3;  // prior 1-sigma [rad], fixes 5 arcsec
+  const Mat3 R = Mat3::Identity() * std::pow(arcsec2rad(5), 2);
+  f.initialize(0, kQ0 * quatExp(Vec3(5 * sigma, 0, 0)), Mat3::Identity() * sigma * sigma,
+               Vec3(1e-6, -2e-6, 3e-6));
+  for (int k = 1; k <= 5; ++k) {
+    ASSERT_TRUE(f.propagate(f.bias(), 0.2 * k));  // the true rate is zero
+    EXPECT_FALSE(f.updateAttitude(kQ0, R).accepted) << "fix " << k;
+    EXPECT_EQ(f.consecutiveRejections(), k);
+  }
+  const Vec3 bias = f.bias();
+  const Mat3 P_bb = f.covariance().bottomRightCorner<3, 3>();
+  f.resetAttitude(1.0, kQ0, R);
+  EXPECT_EQ(f.consecutiveRejections(), 0);
+  EXPECT_EQ(f.time(), 1.0);
+  EXPECT_LT(attitudeError(f.attitude(), kQ0).total, 1e-12);
+  EXPECT_EQ(f.bias(), bias);
+  EXPECT_EQ(Mat3(f.covariance().bottomRightCorner(3, 3)), P_bb);
+  EXPECT_EQ(f.attitudeCov(), R);
+  EXPECT_EQ(Mat3(f.covariance().topRightCorner(3, 3)), Mat3::Zero());
+  ASSERT_TRUE(f.propagate(f.bias(), 1.2));
+  EXPECT_TRUE(f.updateAttitude(kQ0, R).accepted);
+  // An accepted update ends a run of rejections.
+  EXPECT_FALSE(f.updateAttitude(kQ0 * quatExp(Vec3(0, 0.01, 0)), R).accepted);
+  EXPECT_EQ(f.consecutiveRejections(), 1);
+  EXPECT_TRUE(f.updateAttitude(kQ0, R).accepted);
+  EXPECT_EQ(f.consecutiveRejections(), 0);
+}
+
 TEST(Mekf, PredictAtLeavesTheFilterAloneAndMatchesPredictTo) {
   AttitudeMekf f(MekfOptions::fromDatasheet(0.2, 0.2, 5));
   f.initialize(10, kQ0, Mat3::Identity() * 1e-8);

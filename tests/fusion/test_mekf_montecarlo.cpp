@@ -8,20 +8,21 @@
 //  - the same with tight coupling (2-4 star vectors per frame instead of a fix).
 //
 // About ">= 95 % of steps inside the 95 % band": for an exactly consistent filter the EXPECTED
-// fraction is 95 %, so the literal criterion is a coin flip. Over 12 disjoint seed sets
-// (ST_MC_SEED = 0, 50, ..., 550) this filter gave, with fixes: NEES 81.0-98.9 % (mean 93.4,
-// >= 95 % in 5 of 12), NIS 93.3-95.2 % (mean 94.3, 2 of 12); with star vectors: NEES
-// 82.5-99.1 % (mean 93.2), NIS 93.2-96.1 % (mean 95.0, 8 of 12); the mean NEES of a set
-// 5.47-6.37 (6 expected). The test therefore asserts the one-sided 99 % lower
-// confidence limit of that fraction under a consistent filter, derived from its sampling
-// distribution, and prints the literal fraction:
+// fraction is 95 %, so the literal criterion is a coin flip. Over 40 disjoint seed sets
+// (ST_MC_SEED = 0, 50, ..., 1950; 2,000 runs per mode) this filter gave, with fixes: NEES
+// 73.7-99.1 % (mean 94.4, >= 95 % in 26 of 40), NIS 93.2-96.9 % (mean 95.0, 21 of 40); with
+// star vectors: NEES 72.9-98.9 % (mean 94.4, 25 of 40), NIS 93.5-96.4 % (mean 94.9, 18 of
+// 40); the mean NEES of a set 5.37-6.54 (6 expected). The test therefore asserts the
+// one-sided 99 % lower confidence limit of that fraction under a consistent filter, derived
+// from its sampling distribution, and prints the literal fraction (1 of the 80 nominal
+// evaluations above fell under its limit, by 0.1 %: 0.8 expected):
 //  - NIS: innovations of a consistent filter are white, so the per-update indicators are
 //    independent Bernoulli(0.95): bound = 0.95 - 2.326 sqrt(0.95 * 0.05 / n_updates);
 //  - NEES: the averaged NEES wanders slowly (the bias error decorrelates over tens of
 //    seconds), so the fraction's variance comes from 6 batch means of 30 s each:
 //    bound = 0.95 - t(0.99, 5) s_batch / sqrt(6), t(0.99, 5) = 3.365.
-// The mistuned filters land near 0 % and fail by a wide margin.
-// Env: ST_MC_SEED=<offset> reruns with other seeds (run r uses seeds 1000 + r + offset and
+// The mistuned filters land at <= 1.5 % over the same 40 sets and fail by a wide margin.
+// Env: ST_MC_SEED=<offset> reruns with other seeds (run r hashes 1000 + r + offset and
 // 5000 + r + offset: offsets 50 apart give disjoint sets); ST_MC_DEBUG=1 prints NEES and NIS
 // per 10 s.
 #include <gtest/gtest.h>
@@ -34,8 +35,10 @@
 #include "common/conventions.hpp"
 #include "fusion/consistency.hpp"
 #include "fusion/mekf.hpp"
+#include "fusion/navigator.hpp"
 #include "sensors/sim/gyro_model.hpp"
 #include "sensors/sim/motion.hpp"
+#include "sensors/sim/random_streams.hpp"
 
 namespace st {
 namespace {
@@ -98,7 +101,7 @@ struct McResult {
   std::vector<double> nees;  ///< run-averaged 6-state NEES per gyro step
   std::vector<double> nis;   ///< run-averaged NIS per update time
   std::vector<int> nis_dof;  ///< its degrees of freedom (per run)
-  int rejected = 0, rejected_after_outage = 0;
+  int rejected = 0, rejected_after_outage = 0, reinits = 0;
   double bias_inside_3sigma_at_60 = 0;  ///< fraction of run-axes
   double bias_sigma_ratio_at_60 = 0;    ///< mean sigma_b(60) / sigma_b(0)
   double rms_filter = 0, rms_fix = 0;   ///< total attitude error at update times [rad]
@@ -121,12 +124,15 @@ McResult runMonteCarlo(Mode mode, double q_scale) {
   res.sigma_growth = 1e300;
   for (int run = 0; run < kRuns; ++run) {
     const int off = std::getenv("ST_MC_SEED") ? std::atoi(std::getenv("ST_MC_SEED")) : 0;
-    std::mt19937_64 rng(1000 + run + off);
+    // Hashed seeds: with std::mt19937_64 seeded by consecutive integers (1000 + run, and
+    // 5000 + run for the gyro) the run-averaged NIS had 4.2 +- 0.8 % more variance than
+    // chi2(150)/50 over 40 seed sets (runs slightly dependent), 0.0 +- 0.8 % once hashed.
+    std::mt19937_64 rng(splitMix64(1000 + run + off));
     std::normal_distribution<double> n01;
     auto normal3 = [&] { return Vec3(n01(rng), n01(rng), n01(rng)); };
     // The turn-on bias is drawn from the filter's (well-tuned) prior.
     const Vec3 bias0 = normal3() * deg2rad(kBiasSigmaDegH) / 3600.0;
-    GyroSimulator gyro(gp, 5000 + run + off, bias0);
+    GyroSimulator gyro(gp, splitMix64(5000 + run + off), bias0);
     AttitudeMekf f(opt);
     const Vec3 e0 = normal3() * kInitialAttitudeSigma;
     f.initialize(0, truth.attitude(0) * quatExp(-e0),
@@ -170,6 +176,13 @@ McResult runMonteCarlo(Mode mode, double q_scale) {
         if (!u.accepted) {
           ++res.rejected;
           if (t1 > kOutageEnd && first_after_outage) ++res.rejected_after_outage;
+        }
+        // The navigator's recovery: a gate alone can lock the filter out (one run in ~5,000
+        // rejected every fix after the outage), so after a few rejections in a row the
+        // attitude restarts from a lost-in-space fix, modelled as one more fix.
+        if (f.consecutiveRejections() >= NavigatorOptions{}.reinit_after_rejections) {
+          f.resetAttitude(t1, q_true * quatExp(fix_chol.matrixL() * normal3()), kFixCov);
+          ++res.reinits;
         }
         if (t1 > kOutageEnd) first_after_outage = false;
         if (t1 > 10) {
@@ -275,9 +288,10 @@ void print(const char* name, const McResult& r) {
   }
   std::printf(
       "%s: NEES in band %.1f %% of %zu steps (mean %.2f, 6 expected), NIS in band %.1f %% of "
-      "%zu updates (mean %.2f), rejected %d; 99 %% lower limits NEES %.1f %%, NIS %.1f %%\n",
+      "%zu updates (mean %.2f), rejected %d, re-initialised %d; 99 %% lower limits NEES %.1f %%, "
+      "NIS %.1f %%\n",
       name, 100 * neesFraction(r), r.nees.size(), mean(r.nees), 100 * nisFraction(r), r.nis.size(),
-      mean(r.nis), r.rejected, 100 * neesLowerBound(r), 100 * nisLowerBound(r));
+      mean(r.nis), r.rejected, r.reinits, 100 * neesLowerBound(r), 100 * nisLowerBound(r));
 }
 
 bool passesConsistency(const McResult& r) {
