@@ -81,11 +81,8 @@ struct DatabaseSource {
 ///               gate_probability, gate (true/false), update = attitude | stars
 ///   [navigator] reinit_after_rejections, reorder_window_s, gyro_gap_factor,
 ///               camera_label, gyro_label, truth_label
-///   [pipeline]  lis_algorithm, solver, exposure_s, min_sigma_px, max_tracked_stars,
-///               min_tracked_stars, gate_sigma, edge_margin_px, blend_separation_px,
-///               loss_probability, consistency_probability, max_failed_frames,
-///               gain_e_per_adu, read_noise_adu, threshold_sigma, centroider, psf_sigma_px,
-///               max_stars (detection), identify_max_stars, pair_sigma
+///   [pipeline]  the keys of sensors/mrpt/pipeline_ini.hpp (PipelineOptions, same names),
+///               as in a CStarTrackerSensor section
 ///   [database]  path, catalog, mag_limit, epoch_jyear, aberration
 ///   [camera]    CameraModel::loadIni keys; present = overrides the rawlog's camera
 /// Unknown keys in these sections are errors (a typo must not silently keep a default).

@@ -54,6 +54,11 @@ struct DetectorOptions {
   // --- centroiding ---
   std::string centroider = "gauss";  ///< "cog", "iwc" or "gauss" (see centroider.hpp)
   double psf_sigma_px = 0.0;  ///< [px] PSF sigma guess; 0 = estimate per star from moments
+  /// [px] the PSF sigma assumed when psf_sigma_px is 0 and a star's moments do not tell it
+  /// (one number for the detector, the streak code and the replay's scoring).
+  static constexpr double kAssumedPsfSigmaPx = 1.2;
+  /// psf_sigma_px when given, else kAssumedPsfSigmaPx: for what needs one number per frame.
+  double psfSigmaGuess() const { return psf_sigma_px > 0 ? psf_sigma_px : kAssumedPsfSigmaPx; }
   int window_margin_px = 2;   ///< [px] added around a blob's box for the centroid window
   /// "gauss": drop single-pixel spikes far above the fitted PSF (hot pixels, cosmic rays on
   /// a star's wing) and fit again; see gauss_fit.cpp. Off by default: it needs saturation_adu

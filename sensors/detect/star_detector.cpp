@@ -16,8 +16,6 @@
 namespace st {
 namespace {
 
-constexpr double kDefaultPsfSigma = 1.2;  // [px] when neither given nor measurable
-
 void requireValid(const DetectorOptions& opts) {
   std::string err;
   if (!opts.isValid(&err)) throw InputError(err);
@@ -214,7 +212,7 @@ DetectionResult measureBlobs(const cv::Mat& grey, const BackgroundModel& bg,
       continue;
     }
     if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
-    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+    psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : DetectorOptions::kAssumedPsfSigmaPx;
     // Window: the blob's box plus a margin, and at least +-2.5 PSF sigma around the peak.
     const int h = static_cast<int>(std::ceil(2.5 * psf));
     cv::Rect win(box.x - opts.window_margin_px, box.y - opts.window_margin_px,
@@ -313,7 +311,7 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
   // so for a streak the middle is first located as the centre of the above-threshold pixels
   // within a full streak length of the peak; a window centred on the peak would cut off up
   // to half the streak and move the centroid by a quarter of its length.
-  const double psf0 = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
+  const double psf0 = opts.psfSigmaGuess();
   const double blur = p.blur_px.norm();
   const double thr = b + opts.threshold_sigma * sb;
   auto thresholdMoments = [&](const cv::Rect& r, int& area, Moments& mom) {
@@ -384,7 +382,7 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
       mom.shape(elong, psf);
       if (elong > opts.max_elongation) flags |= kElongated;
       if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
-      psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : kDefaultPsfSigma;
+      psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : DetectorOptions::kAssumedPsfSigmaPx;
     }
     const Vec2 start = !streak && mom.sw > 0 ? Vec2(mom.sx / mom.sw, mom.sy / mom.sw)
                                              : Vec2(pk.x, pk.y);  // as in measureBlobs
@@ -487,7 +485,7 @@ DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts) {
 
 int windowHalfSize(const PredictedStar& p, const DetectorOptions& opts) {
   const double sd = largestSigma(p.cov_px);
-  const double psf = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : kDefaultPsfSigma;
+  const double psf = opts.psfSigmaGuess();
   const double h = opts.window_sigmas * sd + 3.0 * psf + 0.5 * p.blur_px.norm();
   if (!std::isfinite(h)) return opts.max_window_half_px;
   return std::clamp(static_cast<int>(std::ceil(h)), 2, opts.max_window_half_px);

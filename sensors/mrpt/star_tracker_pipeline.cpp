@@ -82,7 +82,7 @@ std::optional<Vec2> streakFromShapes(const std::vector<Centroid>& stars,
   if (std::hypot(c2, s2) / n < kMinCoherence) return std::nullopt;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   const double len = lengths[lengths.size() / 2];
-  const double psf = opts.psf_sigma_px > 0 ? opts.psf_sigma_px : 1.0;
+  const double psf = opts.psfSigmaGuess();
   if (len <= 2.0 * psf) return std::nullopt;
   const double angle = 0.5 * std::atan2(s2, c2);
   return Vec2(len * std::cos(angle), len * std::sin(angle));
@@ -286,7 +286,7 @@ void StarTrackerPipeline::correctForAcceleration(const std::optional<Vec3>& rate
 void StarTrackerPipeline::measureStreaks(const cv::Mat& image,
                                          const std::function<Vec2(const Vec2&)>& blur_at,
                                          std::vector<Centroid>& stars) const {
-  const double psf = opts_.detect.psf_sigma_px > 0 ? opts_.detect.psf_sigma_px : 1.0;
+  const double psf = opts_.detect.psfSigmaGuess();
   std::vector<PredictedStar> streaks;
   std::vector<std::size_t> index;
   for (std::size_t k = 0; k < stars.size(); ++k) {
@@ -418,9 +418,8 @@ bool StarTrackerPipeline::track(const cv::Mat& image, const Prediction& pred,
   // own streak (o.px +- blur/2). A star is windowed only if no other catalog star's light
   // falls into its window: for a streak that is a box of ~(blur + 6 psf) around it, not a
   // fixed radius (streaks of neighbours overlap along the streak direction and pull the
-  // centre of gravity by flux ratio x distance). PSF sigma as the detector assumes it
-  // (star_detector.cpp's 1.2 px default when not given).
-  const double psf = opts_.detect.psf_sigma_px > 0 ? opts_.detect.psf_sigma_px : 1.2;
+  // centre of gravity by flux ratio x distance). PSF sigma as the detector assumes it.
+  const double psf = opts_.detect.psfSigmaGuess();
   for (Candidate& c : candidates_) {
     if (int(windows.size()) >= opts_.max_tracked_stars) break;
     if (!camera_.isPixelInImage(c.px, opts_.edge_margin_px)) continue;

@@ -14,6 +14,8 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/mrpt_convert.hpp"
+#include "sensors/mrpt/ini_reader.hpp"
+#include "sensors/mrpt/pipeline_ini.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/simulated_sensors.hpp"
 
@@ -23,23 +25,8 @@ namespace st {
 
 namespace {
 
-std::string where(const std::string& section, const std::string& key) {
-  // No brackets: MRPT's stacked exception (CGenericSensor::loadConfig wraps ours) takes
-  // the text up to the first ']' for a source location and cuts it off the message.
-  return "section '" + section + "' key '" + key + "'";
-}
-
 bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// Reads a key only when present so that the defaults stay in one place (PipelineOptions).
-template <typename T, typename Reader>
-bool readIf(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
-            const std::string& key, T& value, Reader read) {
-  if (!cfg.keyExists(section, key)) return false;
-  value = read(key);
-  return true;
 }
 
 }  // namespace
@@ -52,26 +39,9 @@ CStarTrackerSensor::~CStarTrackerSensor() = default;
 void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
                                                    const std::string& section) {
   section_ = section;
-  auto str = [&](const std::string& k) { return cfg.read_string(section, k, ""); };
-  auto num = [&](const std::string& k) {
-    const std::string v = cfg.read_string(section, k, "");
-    char* end = nullptr;
-    const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || end == v.c_str() || *end != '\0')
-      throw InputError(where(section, k) + ": not a number: '" + v + "'");
-    return d;
-  };
-  auto integer = [&](const std::string& k) {
-    const double d = num(k);
-    if (d != static_cast<int>(d)) throw InputError(where(section, k) + ": not an integer");
-    return static_cast<int>(d);
-  };
-  auto boolean = [&](const std::string& k) {
-    const std::string v = str(k);
-    if (v == "true" || v == "1" || v == "yes") return true;
-    if (v == "false" || v == "0" || v == "no") return false;
-    throw InputError(where(section, k) + ": not a boolean (true/false): '" + v + "'");
-  };
+  const IniReader r{cfg, "", true};
+  auto where = [&](const std::string& sec, const std::string& key) { return r.where(sec, key); };
+  auto str = [&](const std::string& k) { return r.str(section, k, ""); };
 
   // --- image source ---
   source_kind_ = str("image_source");
@@ -79,10 +49,10 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
     throw InputError(where(section, "image_source") +
                      ": missing key (simulated | camera)");
   }
-  readIf(cfg, section, "image_label", image_label_, str);
-  readIf(cfg, section, "emit_image", emit_image_, boolean);
-  readIf(cfg, section, "camera_file", camera_file_, str);
-  readIf(cfg, section, "camera_file_section", camera_file_section_, str);
+  image_label_ = r.str(section, "image_label", image_label_);
+  emit_image_ = r.boolean(section, "emit_image", emit_image_);
+  camera_file_ = r.str(section, "camera_file", camera_file_);
+  camera_file_section_ = r.str(section, "camera_file_section", camera_file_section_);
   if (source_kind_ == "simulated") {
     scenario_file_ = str("scenario_file");
     if (scenario_file_.empty()) throw InputError(where(section, "scenario_file") + ": missing key");
@@ -98,9 +68,9 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
                        ": missing key (the calibration is needed with image_source = camera)");
     }
     std::string cam_section = section;
-    readIf(cfg, section, "camera_section", cam_section, str);
+    cam_section = r.str(section, "camera_section", cam_section);
     if (!cfg.sectionExists(cam_section)) {
-      throw InputError(where(section, "camera_section") + ": no section [" + cam_section + "]");
+      throw InputError(where(section, "camera_section") + ": no section '" + cam_section + "'");
     }
     auto cam = std::make_unique<mrpt::hwdrivers::CCameraSensor>();
     cam->loadConfig(cfg, cam_section);
@@ -115,11 +85,11 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   }
 
   // --- star database ---
-  readIf(cfg, section, "database_file", database_file_, str);
-  readIf(cfg, section, "catalog_file", catalog_file_, str);
-  readIf(cfg, section, "mag_limit", mag_limit_, num);
-  readIf(cfg, section, "aberration", aberration_, boolean);
-  if (cfg.keyExists(section, "epoch_jyear")) epoch_jyear_ = num("epoch_jyear");
+  database_file_ = r.str(section, "database_file", database_file_);
+  catalog_file_ = r.str(section, "catalog_file", catalog_file_);
+  mag_limit_ = r.num(section, "mag_limit", mag_limit_);
+  aberration_ = r.boolean(section, "aberration", aberration_);
+  if (r.has(section, "epoch_jyear")) epoch_jyear_ = r.num(section, "epoch_jyear", 0);
   if (!database_file_.empty() && !mrpt::system::fileExists(database_file_)) {
     throw InputError(where(section, "database_file") + ": no such file '" + database_file_ + "'");
   }
@@ -129,39 +99,11 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
 
   // --- pipeline ---
   PipelineOptions o;
+  readPipelineOptions(r, section, o);
   o.sensor_label = m_sensorLabel;
-  readIf(cfg, section, "lis_algorithm", o.lis_algorithm, str);
-  readIf(cfg, section, "identify_solver", o.identify.solver, str);
-  readIf(cfg, section, "solver", o.solver, str);
-  readIf(cfg, section, "gate_sigma", o.gate_sigma, num);
-  readIf(cfg, section, "min_tracked_stars", o.min_tracked_stars, integer);
-  readIf(cfg, section, "max_tracked_stars", o.max_tracked_stars, integer);
-  readIf(cfg, section, "max_failed_frames", o.max_failed_frames, integer);
-  readIf(cfg, section, "frame_to_frame", o.frame_to_frame, boolean);
-  readIf(cfg, section, "loss_probability", o.loss_probability, num);
-  readIf(cfg, section, "consistency_probability", o.consistency_probability, num);
-  readIf(cfg, section, "max_propagation_s", o.max_propagation_s, num);
-  readIf(cfg, section, "accel_sigma", o.accel_sigma, num);
-  readIf(cfg, section, "gyro_sigma", o.gyro_sigma, num);
-  has_exposure_ = readIf(cfg, section, "exposure_s", o.exposure_s, num);
-  readIf(cfg, section, "threshold_sigma", o.detect.threshold_sigma, num);
-  has_gain_ = readIf(cfg, section, "gain_e_per_adu", o.detect.gain_e_per_adu, num);
-  has_read_noise_ = readIf(cfg, section, "read_noise_adu", o.detect.read_noise_adu, num);
-  readIf(cfg, section, "centroider", o.detect.centroider, str);
-  readIf(cfg, section, "reject_spikes", o.detect.reject_spikes, boolean);
-  readIf(cfg, section, "drop_saturated", o.drop_saturated, boolean);
-  readIf(cfg, section, "max_stars", o.detect.max_stars, integer);
-  try {
-    o.validate();
-  } catch (const InputError& e) {
-    throw InputError("section '" + section + "': " + e.what());
-  }
-  std::string err;
-  if (!StarIdentifier::create(o.lis_algorithm, o.identify, &err))
-    throw InputError(where(section, "lis_algorithm") + ": " + err);
-  if (!WahbaSolver::create(o.solver, &err)) throw InputError(where(section, "solver") + ": " + err);
-  if (!WahbaSolver::create(o.identify.solver, &err))
-    throw InputError(where(section, "identify_solver") + ": " + err);
+  has_exposure_ = r.has(section, "exposure_s");
+  has_gain_ = r.has(section, "gain_e_per_adu");
+  has_read_noise_ = r.has(section, "read_noise_adu");
   opts_ = o;
 }
 
@@ -189,7 +131,7 @@ void CStarTrackerSensor::initialize() {
         camera_ = CameraModel::loadIniFile(camera_file_, camera_file_section_);
       }
     } catch (const InputError& e) {
-      throw InputError(where(s, "camera_file") + ": " + e.what());
+      throw InputError("section '" + s + "' key 'camera_file': " + e.what());
     }
   } else {
     camera_ = scenario->camera;

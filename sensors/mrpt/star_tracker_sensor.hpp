@@ -26,11 +26,8 @@
 ///   catalog_file  = path          (default StarDatabase::defaultCatalogPath()) with
 ///   mag_limit = 6.5, epoch_jyear (default: the scenario's epoch, else required),
 ///   aberration = true
-///   Pipeline (PipelineOptions, same names): lis_algorithm, identify_solver, solver,
-///   gate_sigma, min_tracked_stars, max_tracked_stars, max_failed_frames, frame_to_frame,
-///   exposure_s, loss_probability, consistency_probability, max_propagation_s, accel_sigma,
-///   gyro_sigma; detector: threshold_sigma, gain_e_per_adu, read_noise_adu, centroider,
-///   max_stars.
+///   Pipeline: the keys of pipeline_ini.hpp (PipelineOptions and its detector options, same
+///   names), as in the navigator's [pipeline] section.
 ///   Relative paths are taken as they are (relative to the working directory).
 ///
 /// Errors: a missing or bad key throws st::InputError ("section 'S' key 'K': ..."), from
