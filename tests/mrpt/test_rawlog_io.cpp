@@ -225,7 +225,8 @@ TEST(RawlogIo, StockRawlogEditListsStarTrackerWithThePlugin) {
 
   std::string out;
   const int rc = test::runCommand(
-      "rawlog-edit -p '" ST_MRPT_PLUGIN_PATH "' --info -i '" + path + "'", &out);
+      ST_PLUGIN_HOST_ENV "rawlog-edit -p '" ST_MRPT_PLUGIN_PATH "' --info -i '" + path + "'",
+      &out);
   EXPECT_EQ(rc, 0) << out;
   const std::regex objects(R"(Overall number of objects\s*:\s*(\d+))");
   const std::regex fixes(R"(STAR_TRACKER\s*/\s*(\d+)\s*/)");

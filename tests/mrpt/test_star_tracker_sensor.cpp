@@ -272,8 +272,8 @@ TEST(StarTrackerSensor, StockRawlogGrabberRecordsStarTrackerFixes) {
                         "rawlog_GZ_compress_level = 1\n\n"
                      << trackerSection(scen, "sensorLabel = STAR_TRACKER\n");
   std::string out;
-  test::runCommand("sleep 12 | timeout 60 rawlog-grabber -p '" ST_MRPT_PLUGIN_PATH "' '" +
-                       ini + "'",
+  test::runCommand("sleep 12 | timeout 60 " ST_PLUGIN_HOST_ENV "rawlog-grabber -p '"
+                   ST_MRPT_PLUGIN_PATH "' '" + ini + "'",
                    &out);
   std::string rawlog;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -282,7 +282,8 @@ TEST(StarTrackerSensor, StockRawlogGrabberRecordsStarTrackerFixes) {
   ASSERT_FALSE(rawlog.empty()) << "rawlog-grabber wrote no rawlog:\n" << out;
 
   std::string info;
-  ASSERT_EQ(test::runCommand("rawlog-edit -p '" ST_MRPT_PLUGIN_PATH "' --info -i '" + rawlog + "'",
+  ASSERT_EQ(test::runCommand(ST_PLUGIN_HOST_ENV "rawlog-edit -p '" ST_MRPT_PLUGIN_PATH
+                                                "' --info -i '" + rawlog + "'",
                              &info),
             0)
       << info;
