@@ -94,6 +94,10 @@ void AttitudeMekf::initialize(double t, const Quat& q_ib, const Vec3& bias, cons
 }
 
 void AttitudeMekf::resetAttitude(double t, const Quat& q_ib, const Mat3& attitude_cov) {
+  if (!initialized_) {  // nothing learned to keep: the bias prior of the options
+    initialize(t, q_ib, attitude_cov);
+    return;
+  }
   Mat6 P = Mat6::Zero();
   P.topLeftCorner<3, 3>() = attitude_cov;
   P.bottomRightCorner<3, 3>() = P_.bottomRightCorner<3, 3>();

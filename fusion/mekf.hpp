@@ -109,7 +109,7 @@ class AttitudeMekf {
   /// Re-initialisation after the filter and the sensor disagreed: the attitude restarts from
   /// an independent fix (q_ib, 3x3 body covariance) at time t, the bias estimate and its
   /// covariance are kept, and their correlation with the old attitude error is dropped (the
-  /// fix's error is independent of it). Precondition: initialized().
+  /// fix's error is independent of it). Before initialisation it is initialize().
   void resetAttitude(double t, const Quat& q_ib, const Mat3& attitude_cov);
 
   /// Propagates to t1 with the gyro's mean measured rate over [time(), t1] [rad/s].

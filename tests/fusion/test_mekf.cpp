@@ -282,6 +282,11 @@ TEST(Mekf, GateLockOutIsCountedAndResetAttitudeRecovers) {
   EXPECT_EQ(f.consecutiveRejections(), 1);
   EXPECT_TRUE(f.updateAttitude(kQ0, R).accepted);
   EXPECT_EQ(f.consecutiveRejections(), 0);
+  // Before initialisation there is no bias to keep: the reset initialises with the prior.
+  AttitudeMekf g(f.options());
+  g.resetAttitude(0, kQ0, R);
+  ASSERT_TRUE(g.initialized());
+  EXPECT_DOUBLE_EQ(std::sqrt(g.covariance()(3, 3)), g.options().initial_bias_sigma_rad_s);
 }
 
 TEST(Mekf, PredictAtLeavesTheFilterAloneAndMatchesPredictTo) {
