@@ -11,15 +11,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
-#include <set>
 #include <sstream>
 
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/mrpt_convert.hpp"
-#include "sensors/attitude/wahba.hpp"
-#include "sensors/identify/identifier.hpp"
 #include "sensors/mrpt/ini_reader.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
 #include "sensors/sim/sim_observations.hpp"

@@ -40,13 +40,12 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
                                                    const std::string& section) {
   section_ = section;
   const IniReader r{cfg, "", true};
-  auto where = [&](const std::string& sec, const std::string& key) { return r.where(sec, key); };
   auto str = [&](const std::string& k) { return r.str(section, k, ""); };
 
   // --- image source ---
   source_kind_ = str("image_source");
   if (source_kind_.empty()) {
-    throw InputError(where(section, "image_source") +
+    throw InputError(r.where(section, "image_source") +
                      ": missing key (simulated | camera)");
   }
   image_label_ = r.str(section, "image_label", image_label_);
@@ -55,33 +54,33 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   camera_file_section_ = r.str(section, "camera_file_section", camera_file_section_);
   if (source_kind_ == "simulated") {
     scenario_file_ = str("scenario_file");
-    if (scenario_file_.empty()) throw InputError(where(section, "scenario_file") + ": missing key");
+    if (scenario_file_.empty()) throw InputError(r.where(section, "scenario_file") + ": missing key");
     if (!mrpt::system::fileExists(scenario_file_)) {
-      throw InputError(where(section, "scenario_file") + ": no such file '" + scenario_file_ + "'");
+      throw InputError(r.where(section, "scenario_file") + ": no such file '" + scenario_file_ + "'");
     }
     auto sim = std::make_unique<CSimulatedStarCamera>();
     sim->loadConfig(cfg, section);
     source_ = std::move(sim);
   } else if (source_kind_ == "camera") {
     if (camera_file_.empty()) {
-      throw InputError(where(section, "camera_file") +
+      throw InputError(r.where(section, "camera_file") +
                        ": missing key (the calibration is needed with image_source = camera)");
     }
     std::string cam_section = section;
     cam_section = r.str(section, "camera_section", cam_section);
     if (!cfg.sectionExists(cam_section)) {
-      throw InputError(where(section, "camera_section") + ": no section '" + cam_section + "'");
+      throw InputError(r.where(section, "camera_section") + ": no section '" + cam_section + "'");
     }
     auto cam = std::make_unique<mrpt::hwdrivers::CCameraSensor>();
     cam->loadConfig(cfg, cam_section);
     source_ = std::move(cam);
   } else {
-    throw InputError(where(section, "image_source") + ": unknown value '" + source_kind_ +
+    throw InputError(r.where(section, "image_source") + ": unknown value '" + source_kind_ +
                      "' (simulated | camera)");
   }
   if (source_) source_->setSensorLabel(image_label_);
   if (!camera_file_.empty() && !mrpt::system::fileExists(camera_file_)) {
-    throw InputError(where(section, "camera_file") + ": no such file '" + camera_file_ + "'");
+    throw InputError(r.where(section, "camera_file") + ": no such file '" + camera_file_ + "'");
   }
 
   // --- star database ---
@@ -91,10 +90,10 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   aberration_ = r.boolean(section, "aberration", aberration_);
   if (r.has(section, "epoch_jyear")) epoch_jyear_ = r.num(section, "epoch_jyear", 0);
   if (!database_file_.empty() && !mrpt::system::fileExists(database_file_)) {
-    throw InputError(where(section, "database_file") + ": no such file '" + database_file_ + "'");
+    throw InputError(r.where(section, "database_file") + ": no such file '" + database_file_ + "'");
   }
   if (!catalog_file_.empty() && !mrpt::system::fileExists(catalog_file_)) {
-    throw InputError(where(section, "catalog_file") + ": no such file '" + catalog_file_ + "'");
+    throw InputError(r.where(section, "catalog_file") + ": no such file '" + catalog_file_ + "'");
   }
 
   // --- pipeline ---
