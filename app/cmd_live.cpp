@@ -8,8 +8,11 @@
 //
 // Optional sections without a driver:
 //   [global]     rawlog_file = out.rawlog (default live.rawlog; -o wins)
-//   [navigator]  enabled = true, latency_s = 0.5, arw_deg_rt_h = 0.15, rrw_deg_h_rt_h = 0.5,
-//                bias_sigma_deg_h = 10, reinit_after_rejections = 3
+//   [filter]     as in tracker.ini (navigation/tracker_config.hpp): gyro datasheet numbers,
+//                gate, update = attitude | stars
+//   [navigator]  as in tracker.ini, plus enabled = true; reorder_window_s (default 0.5 here)
+//                is the latency a star-tracker fix may have and still enter the filter
+// The filter is the one fusion loop of `replay` (app/live/live_navigator.hpp).
 // Relative paths inside the .ini are relative to the .ini's folder (the sensors are
 // configured from there).
 #include <mrpt/config/CConfigFile.h>
@@ -25,7 +28,10 @@
 
 #include "app/command.hpp"
 #include "app/live/live_display.hpp"
-#include "app/live/live_filter.hpp"
+#include "app/live/live_navigator.hpp"
+#include "navigation/run_summary.hpp"
+#include "navigation/tracker_config.hpp"
+#include "sensors/mrpt/ini_reader.hpp"
 #include "app/live/sensor_runner.hpp"
 #include "common/errors.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
@@ -47,18 +53,14 @@ struct LiveArgs {
   bool gui = false;
 };
 
-LiveFilterOptions filterOptions(const mrpt::config::CConfigFileBase& cfg, bool* enabled) {
-  const std::string s = "navigator";
-  LiveFilterOptions o;
-  *enabled = cfg.read_bool(s, "enabled", true);
-  o.latency_s = cfg.read_double(s, "latency_s", o.latency_s);
-  o.reinit_after_rejections = cfg.read_int(s, "reinit_after_rejections", o.reinit_after_rejections);
-  o.mekf = MekfOptions::fromDatasheet(cfg.read_double(s, "arw_deg_rt_h", 0.15),
-                                      cfg.read_double(s, "rrw_deg_h_rt_h", 0.5),
-                                      cfg.read_double(s, "bias_sigma_deg_h", 10.0));
-  std::string err;
-  if (!o.mekf.isValid(&err)) throw InputError("section 'navigator': " + err);
-  if (!(o.latency_s >= 0)) throw InputError("section 'navigator' key 'latency_s': must be >= 0");
+/// The [filter] / [navigator] sections, read by the reader of tracker.ini.
+NavigatorOptions navigatorOptions(const mrpt::config::CConfigFileBase& cfg,
+                                  const std::string& source, bool* enabled) {
+  const IniReader r{cfg, source};
+  NavigatorOptions o;
+  o.fusion.reorder_window_s = 0.5;  // a fix arrives after its processing time
+  readFusionSections(r, o, {"enabled"});
+  *enabled = r.boolean("navigator", "enabled", true);
   return o;
 }
 
@@ -78,7 +80,7 @@ int runLive(const LiveArgs& args) {
 
   fs::current_path(config.parent_path());  // the .ini's relative paths
   bool nav_enabled = true;
-  LiveFilter filter(filterOptions(cfg, &nav_enabled));
+  const NavigatorOptions nav_opts = navigatorOptions(cfg, args.config, &nav_enabled);
   std::vector<SensorSpec> specs = createSensors(cfg, args.config);  // InputError -> exit 2
 
   RawlogWriter writer(out_path.string());
@@ -87,12 +89,7 @@ int runLive(const LiveArgs& args) {
   std::vector<CStarTrackerSensor*> trackers;
   for (auto& spec : specs) {
     spec.sensor->setPathForExternalImages(writer.imagesDir());
-    if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) {
-      trackers.push_back(t);
-      if (nav_enabled) t->setPredictor([&filter](mrpt::Clock::time_point when) {
-        return filter.predict(when);
-      });
-    }
+    if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) trackers.push_back(t);
     runners.push_back(std::make_unique<SensorRunner>(std::move(spec), queue));
   }
 
@@ -108,6 +105,17 @@ int runLive(const LiveArgs& args) {
   std::fflush(stdout);
   for (auto& r : runners) r->start();
   for (auto& r : runners) r->waitInitialized();
+  // The navigator needs the star tracker's database and camera: built after initialize().
+  std::unique_ptr<LiveNavigator> nav;
+  if (nav_enabled && !trackers.empty() && trackers.front()->database()) {
+    CStarTrackerSensor* t = trackers.front();
+    NavigatorOptions o = nav_opts;
+    o.star_tracker_label = t->getSensorLabel();
+    nav = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o);
+    t->setPredictor([&nav](mrpt::Clock::time_point when) {
+      return nav->frameInputs(when).prediction;
+    });
+  }
   auto printReports = [&] {
     for (const auto& m : queue.takeReports()) std::fprintf(stderr, "live: %s\n", m.c_str());
   };
@@ -151,7 +159,7 @@ int runLive(const LiveArgs& args) {
         if (f->mode == StarTrackerMode::kLostInSpace) ++lis;
         if (!f->hasAttitude()) ++failures[f->reason.substr(0, 80)];
       }
-      if (nav_enabled) filter.push(o);
+      if (nav) nav->push(o);
     }
   };
 
@@ -171,7 +179,6 @@ int runLive(const LiveArgs& args) {
       break;
     }
     record(queue.takeAll(0.05));
-    if (nav_enabled) filter.processUpTo(mrpt::Clock::now());
     printReports();
     if (display.isOpen() && clock::now() - last_gui > std::chrono::milliseconds(100)) {
       last_gui = clock::now();
@@ -179,7 +186,7 @@ int runLive(const LiveArgs& args) {
         Quat q;
         Mat3 P;
         std::optional<Quat> att;
-        if (filter.current(q, P)) att = q;
+        if (nav && nav->current(q, P)) att = q;
         const auto fix = trackers.front()->lastObservation();
         display.show(trackers.front()->lastImage(), fix.get(), att);
       }
@@ -199,7 +206,10 @@ int runLive(const LiveArgs& args) {
   for (auto& r : runners) r->stop();
   record(queue.takeAll(0.0));
   printReports();
-  if (nav_enabled) filter.flush();
+  if (nav) {
+    nav->flush();
+    trackers.front()->setPredictor({});
+  }
   writer.close();
   display.close();
 
@@ -217,11 +227,13 @@ int runLive(const LiveArgs& args) {
               frames, solved, pct(solved, frames), tracking, pct(tracking, frames), lis);
   for (const auto& [reason, n] : failures)
     std::printf("  failed %d x: %s\n", n, reason.c_str());
-  if (nav_enabled) {
-    const auto s = filter.stats();
-    std::printf("filter: %d gyro samples, %d fixes (%d accepted, %d rejected, %d late, "
-                "%d re-initialisations)\n",
-                s.gyro, s.fixes, s.accepted, s.rejected, s.late, s.reinits);
+  if (nav) {
+    const auto s = nav->stats();
+    std::printf("filter: %d fixes (%d accepted, %d rejected, %d ignored while waiting for "
+                "lost-in-space), %d re-initialisations, %d warnings\n",
+                s.fixes, s.accepted, s.rejected, s.ignored, s.reinits, s.warnings);
+    for (const auto& w : nav->warnings()) std::fprintf(stderr, "live: warning: %s\n", w.c_str());
+    printNavigationSummary(nav->steps(), stdout);
   }
   std::fflush(stdout);
   return running > 0 ? kExitOk : kExitFailure;

@@ -18,7 +18,10 @@
 #include "common/mrpt_convert.hpp"
 #include "common/progress.hpp"
 #include "fusion/consistency.hpp"
-#include "fusion/navigator.hpp"
+#include "navigation/nav_step.hpp"
+#include "navigation/navigator.hpp"
+#include "navigation/run_summary.hpp"
+#include "navigation/tracker_config.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
 
 namespace st::app {
@@ -31,18 +34,6 @@ struct ReplayOpts {
   std::string rawlog, config, output, csv, plots;
   bool realtime = false, quiet = false;
 };
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t i = std::min(v.size() - 1, std::size_t(std::ceil(p * double(v.size())) - 1));
-  return v[i];
-}
-double rms(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x * x;
-  return v.empty() ? 0 : std::sqrt(s / double(v.size()));
-}
 
 /// External images of the output rawlog: `<out stem>_Images` points to the input's folder.
 void linkImages(const std::string& input, const std::string& output) {
@@ -203,9 +194,7 @@ int runReplay(const ReplayOpts& o) {
   // ---- summary ----
   const auto& steps = nav.steps();
   int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
-  long matched_with_truth = 0, misidentified = 0, blend_claims = 0;
   double frame_time = 0;
-  std::vector<double> cross, roll, nees, fix_err, filt_err, fix_nees;
   for (const NavStep& s : steps) {
     if (s.has_frame) {
       ++frames;
@@ -213,22 +202,7 @@ int runReplay(const ReplayOpts& o) {
       if (s.fix) ++solved;
       if (s.mode == StarTrackerMode::kLostInSpace) ++lis;
       if (s.mode == StarTrackerMode::kTracking) ++tracking;
-      if (s.update == "rejected") ++rejected;
-    }
-    if (s.has_truth && s.initialized) {
-      cross.push_back(rad2arcsec(s.error.cross_boresight));
-      roll.push_back(std::abs(rad2arcsec(s.error.roll)));
-      nees.push_back(s.nees);
-      if (s.fix) {
-        fix_err.push_back(rad2arcsec(s.fix_error.total));
-        filt_err.push_back(rad2arcsec(s.error.total));
-        fix_nees.push_back(s.fix_nees);
-      }
-    }
-    if (s.has_truth && s.fix) {
-      matched_with_truth += s.stars_matched;
-      misidentified += s.misidentified;
-      blend_claims += s.blend_claims;
+      if (s.use == FixUse::kRejected) ++rejected;
     }
   }
   std::printf("%s: %zu observations, camera %s\n", o.rawlog.c_str(), obs.size(),
@@ -241,40 +215,7 @@ int runReplay(const ReplayOpts& o) {
               frames, solved * pct, lis, tracking * pct, rejected, nav.reinitializations());
   std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
               frames ? 1e3 * frame_time / frames : 0.0, frames / std::max(wall_s, 1e-9));
-  if (!nees.empty()) {
-    const ChiSquareBand band = averagedChiSquareBand(3, int(nees.size()));
-    double mean_nees = 0;
-    for (double v : nees) mean_nees += v;
-    mean_nees /= double(nees.size());
-    std::printf("attitude error vs GROUND_TRUTH (%zu steps) [arcsec]:\n", nees.size());
-    std::printf("  cross-boresight  RMS %8.2f  95 %% %8.2f  max %8.2f\n", rms(cross),
-                percentile(cross, 0.95), *std::max_element(cross.begin(), cross.end()));
-    std::printf("  roll             RMS %8.2f  95 %% %8.2f  max %8.2f\n", rms(roll),
-                percentile(roll, 0.95), *std::max_element(roll.begin(), roll.end()));
-    if (!fix_err.empty()) {
-      std::printf("  total, frames with a fix: filter RMS %.2f, raw fixes RMS %.2f\n",
-                  rms(filt_err), rms(fix_err));
-    }
-    std::printf("  filter: mean NEES %.3f (3 dof; 95 %% band for independent steps [%.3f, %.3f]: "
-                "%s; consecutive filter steps are correlated)\n",
-                mean_nees, band.lo, band.hi, band.contains(mean_nees) ? "inside" : "outside");
-    if (!fix_nees.empty()) {
-      // Raw fixes are (nearly) independent frame to frame: the fraction of NEES values below
-      // the chi2(3) 95 % point is the portable consistency check (0.95 when consistent).
-      const double q95 = chiSquareQuantile(0.95, 3);
-      const auto below = std::count_if(fix_nees.begin(), fix_nees.end(),
-                                       [&](double v) { return v <= q95; });
-      std::printf("  raw fixes: median NEES %.3f (chi2(3) median 2.366), %.1f %% below the "
-                  "chi2(3) 95 %% point\n",
-                  percentile(fix_nees, 0.5), 100.0 * double(below) / double(fix_nees.size()));
-    }
-    if (matched_with_truth > 0) {
-      std::printf("  identification: %ld matched stars, %ld misidentified (claimed star not "
-                  "the true star nearest to the centroid), %ld named after the other member of "
-                  "an unresolved pair\n",
-                  matched_with_truth, misidentified, blend_claims);
-    }
-  }
+  printNavigationSummary(steps, stdout);
 
   if (!o.csv.empty()) {
     std::ofstream f(o.csv);
@@ -307,7 +248,7 @@ void addReplayCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("rawlog", o->rawlog, "Input rawlog")->required();
   cmd->add_option("--config", o->config,
                   "tracker.ini: [pipeline] [filter] [navigator] [database] [camera] (see "
-                  "fusion/navigator.hpp)");
+                  "navigation/tracker_config.hpp)");
   cmd->add_option("-o,--output", o->output, "Output rawlog: the input + STAR_TRACKER");
   cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
   cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");

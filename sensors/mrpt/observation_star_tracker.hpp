@@ -20,37 +20,9 @@
 #include <vector>
 
 #include "common/attitude.hpp"
+#include "sensors/tracking/frame.hpp"
 
 namespace st {
-
-/// How the fix was obtained.
-enum class StarTrackerMode : uint8_t {
-  kLostInSpace = 0,  ///< full-frame detection + lost-in-space identification
-  kTracking = 1,     ///< predicted windows + recursive identification
-  kFailed = 2,       ///< no attitude this frame (see `reason`)
-};
-/// "lost-in-space", "tracking", "failed".
-const char* toString(StarTrackerMode mode);
-
-/// One identified star of the fix.
-struct MatchedStar {
-  uint32_t catalog_id = 0;      ///< HIP or HR number (catalog/star_catalog.hpp)
-  Vec2 px = Vec2::Zero();       ///< [px] measured centroid
-  Vec3 v_cam = Vec3::UnitZ();   ///< measured unit vector in the camera frame
-  double residual = 0;          ///< [rad] angle between measured and fitted catalog direction
-  bool operator==(const MatchedStar& o) const {
-    return catalog_id == o.catalog_id && px == o.px && v_cam == o.v_cam && residual == o.residual;
-  }
-};
-
-/// Wall-clock time spent in each stage of the frame [s].
-struct StageTimings {
-  double detect = 0, identify = 0, attitude = 0, total = 0;
-  bool operator==(const StageTimings& o) const {
-    return detect == o.detect && identify == o.identify && attitude == o.attitude &&
-           total == o.total;
-  }
-};
 
 class CObservationStarTracker : public mrpt::obs::CObservation {
   DEFINE_SERIALIZABLE(CObservationStarTracker, st)

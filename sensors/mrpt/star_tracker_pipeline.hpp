@@ -111,13 +111,6 @@ struct PipelineOptions {
   void validate() const;
 };
 
-/// An attitude prediction for the next frame, in the body frame.
-struct AttitudePrediction {
-  Quat q_ib = Quat::Identity();
-  Mat3 cov_body = Mat3::Identity();   ///< [rad^2]
-  Vec3 rate_body = Vec3::Zero();      ///< [rad/s], for the blur
-};
-
 class StarTrackerPipeline {
  public:
   /// Throws InputError for bad options (unknown algorithm or solver name, ...).

@@ -12,7 +12,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/conventions.hpp"
-#include "fusion/navigator.hpp"
+#include "navigation/navigator.hpp"
+#include "navigation/tracker_config.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/sim_observations.hpp"
 
@@ -55,7 +56,7 @@ void BM_ReplayTrackingFrame(benchmark::State& state) {
   o.pipeline.exposure_s = d.sc.sensor.exposure_s;
   o.pipeline.detect.gain_e_per_adu = d.sc.sensor.gain();
   o.pipeline.detect.read_noise_adu = d.sc.sensor.read_noise_e / d.sc.sensor.gain();
-  o.filter = MekfOptions::fromDatasheet(0.15, 0.5, 5.0);
+  o.fusion.filter = MekfOptions::fromDatasheet(0.15, 0.5, 5.0);
   Navigator nav(*d.db, d.sc.camera, o);
   nav.setKeepSteps(false);
   int frames = 0, tracking = 0;

@@ -1,4 +1,6 @@
 // Monte Carlo consistency of the MEKF (issue 8 acceptance; Bar-Shalom et al. sec. 5.4):
+// Every run goes through the one fusion loop (fusion/fusion_loop.hpp) that replay and live use,
+// with synthetic fixes in place of the tracker.
 // 50 runs of 180 s of jittering slew, gyro at 50 Hz from GyroSimulator, star-tracker fixes at
 // 5 Hz synthesised as truth perturbed by their covariance, a scripted 30 s outage.
 //  - run-averaged 6-state NEES inside the two-sided 95 % chi-square band for >= 95 % of steps,
@@ -29,13 +31,14 @@
 
 #include <Eigen/Cholesky>
 #include <cstdlib>
+#include <map>
 #include <random>
 
 #include "common/attitude.hpp"
 #include "common/conventions.hpp"
 #include "fusion/consistency.hpp"
 #include "fusion/mekf.hpp"
-#include "fusion/navigator.hpp"
+#include "fusion/fusion_loop.hpp"
 #include "sensors/sim/gyro_model.hpp"
 #include "sensors/sim/motion.hpp"
 #include "sensors/sim/random_streams.hpp"
@@ -109,16 +112,54 @@ struct McResult {
   double sigma_growth = 0;              ///< min over runs of trace P_att(130) / trace(100)
 };
 
+/// One run's fix at t1: the truth perturbed by the fix covariance, or 2-4 star vectors
+/// (within ~8 deg of the boresight, noise across the line of sight) as a FrameResult whose
+/// covariance is their QUEST covariance, so that the loop's per-star sigma is kStarSigma.
+/// `lis`: the loop asked for lost-in-space (a re-initialisation is pending).
+FrameResult makeFix(Mode mode, const Quat& q_true, bool lis, int update_index,
+                    std::mt19937_64& rng, std::map<uint32_t, Vec3>& catalog) {
+  std::normal_distribution<double> n01;
+  auto normal3 = [&] { return Vec3(n01(rng), n01(rng), n01(rng)); };
+  FrameResult f;
+  f.mode = lis ? StarTrackerMode::kLostInSpace : StarTrackerMode::kTracking;
+  if (mode == Mode::kFixes) {
+    f.q_ib = q_true * quatExp(Eigen::LLT<Mat3>(kFixCov).matrixL() * normal3());
+    f.cov_body = kFixCov;
+    return f;
+  }
+  std::uniform_real_distribution<double> uni(-0.14, 0.14);
+  const int n_stars = 2 + (update_index % 3);
+  Mat3 info = Mat3::Zero();
+  for (int s = 0; s < n_stars; ++s) {
+    const Vec3 b_true = Vec3(uni(rng), uni(rng), 1.0).normalized();
+    Vec3 noise = normal3() * kStarSigma;
+    noise -= b_true * b_true.dot(noise);
+    MatchedStar m;
+    m.catalog_id = static_cast<uint32_t>(4 * update_index + s);
+    m.v_cam = (b_true + noise).normalized();
+    catalog[m.catalog_id] = q_true * b_true;
+    f.stars.push_back(m);
+    info += (Mat3::Identity() - b_true * b_true.transpose()) / (kStarSigma * kStarSigma);
+  }
+  f.q_ib = q_true;  // unused by a star-vector update
+  f.cov_body = info.inverse();
+  return f;
+}
+
 McResult runMonteCarlo(Mode mode, double q_scale) {
   const GridMotion& truth = truthMotion();
   const GyroParams gp = gyroParams();
-  MekfOptions opt = MekfOptions::fromDatasheet(gp.arw_deg_rt_h, gp.rrw_deg_h_rt_h, kBiasSigmaDegH);
-  opt.arw_rad_rt_s *= std::sqrt(q_scale);  // Q scales with the squares
-  opt.rrw_rad_s_rt_s *= std::sqrt(q_scale);
+  FusionOptions fo;
+  fo.filter = MekfOptions::fromDatasheet(gp.arw_deg_rt_h, gp.rrw_deg_h_rt_h, kBiasSigmaDegH);
+  fo.filter.arw_rad_rt_s *= std::sqrt(q_scale);  // Q scales with the squares
+  fo.filter.rrw_rad_s_rt_s *= std::sqrt(q_scale);
+  fo.update = mode == Mode::kFixes ? FusionOptions::Update::kAttitude
+                                   : FusionOptions::Update::kStarVectors;
+  fo.reorder_window_s = 0;  // events are pushed in time order
   McResult res;
   res.nees.assign(kSteps, 0.0);
   std::vector<double> nis_sum;
-  const Eigen::LLT<Mat3> fix_chol(kFixCov);
+  std::vector<int> nis_count;
   double se_filter = 0, se_fix = 0, bias_in = 0, sigma_ratio = 0, outage_in = 0;
   int n_err = 0, n_outage = 0;
   res.sigma_growth = 1e300;
@@ -133,57 +174,51 @@ McResult runMonteCarlo(Mode mode, double q_scale) {
     // The turn-on bias is drawn from the filter's (well-tuned) prior.
     const Vec3 bias0 = normal3() * deg2rad(kBiasSigmaDegH) / 3600.0;
     GyroSimulator gyro(gp, splitMix64(5000 + run + off), bias0);
-    AttitudeMekf f(opt);
-    const Vec3 e0 = normal3() * kInitialAttitudeSigma;
-    f.initialize(0, truth.attitude(0) * quatExp(-e0),
-                 Mat3::Identity() * kInitialAttitudeSigma * kInitialAttitudeSigma);
+    // The one fusion loop of replay and live, fed with synthetic fixes instead of a tracker.
+    std::map<uint32_t, Vec3> catalog;
+    FusionLoop loop(fo, [&catalog](uint32_t id) -> std::optional<Vec3> {
+      const auto it = catalog.find(id);
+      return it == catalog.end() ? std::nullopt : std::optional<Vec3>(it->second);
+    });
     int update_index = 0;
     bool first_after_outage = true;
     double trace_at_outage = 0;
+    Quat q_fix = Quat::Identity();
+    loop.setStepCallback([&](const FusionStep& s) {
+      if (s.use != FixUse::kAccepted && s.use != FixUse::kRejected) return;
+      // The NIS is a statistic of the innovation whether or not the gate then accepts it.
+      // Every run has the same number of stars at the same update index, so the dof match.
+      if (nis_sum.size() <= std::size_t(update_index)) {
+        nis_sum.resize(update_index + 1, 0.0);
+        nis_count.resize(update_index + 1, 0);
+        res.nis_dof.resize(update_index + 1, s.update.dof);
+      }
+      nis_sum[update_index] += s.update.nis;
+      ++nis_count[update_index];
+      if (s.use == FixUse::kRejected) {
+        ++res.rejected;
+        if (s.t > kOutageEnd && first_after_outage) ++res.rejected_after_outage;
+      }
+    });
+    // The first fix initialises the filter (a lost-in-space fix of 1 mrad per axis).
+    const Vec3 e0 = normal3() * kInitialAttitudeSigma;
+    FrameResult init;
+    init.mode = StarTrackerMode::kLostInSpace;
+    init.q_ib = truth.attitude(0) * quatExp(-e0);
+    init.cov_body = Mat3::Identity() * kInitialAttitudeSigma * kInitialAttitudeSigma;
+    loop.pushFix(0, 0, init);
     for (int k = 0; k < kSteps; ++k) {
       const double t0 = k * kGyroDt, t1 = (k + 1) * kGyroDt;
-      f.propagate(gyro.sample(truth, t0, t1), t1);
+      loop.pushGyro(t1, gyro.sample(truth, t0, t1));
+      const AttitudeMekf& f = loop.filter();
       const Quat q_true = truth.attitude(t1);
       const bool in_outage = t1 > kOutageStart && t1 <= kOutageEnd;
       if (std::abs(t1 - kOutageStart) < 1e-9) trace_at_outage = f.attitudeCov().trace();
       if ((k + 1) % kFixEvery == 0 && !in_outage) {
-        MekfUpdateResult u;
-        Quat q_fix = q_true;
-        if (mode == Mode::kFixes) {
-          q_fix = q_true * quatExp(fix_chol.matrixL() * normal3());
-          u = f.updateAttitude(q_fix, kFixCov);
-        } else {
-          // 2-4 stars within ~8 deg of the boresight, noise across the line of sight.
-          std::uniform_real_distribution<double> uni(-0.14, 0.14);
-          const int n_stars = 2 + (update_index % 3);
-          std::vector<StarVectorMeasurement> stars;
-          for (int s = 0; s < n_stars; ++s) {
-            const Vec3 b_true = Vec3(uni(rng), uni(rng), 1.0).normalized();
-            Vec3 noise = normal3() * kStarSigma;
-            noise -= b_true * b_true.dot(noise);
-            stars.push_back(StarVectorMeasurement::fromSigma((b_true + noise).normalized(),
-                                                             q_true * b_true, kStarSigma));
-          }
-          u = f.updateStarVectors(stars);
-        }
-        // The NIS is a statistic of the innovation whether or not the gate then accepts it.
-        // Every run has the same number of stars at the same update index, so the dof match.
-        if (run == 0) {
-          nis_sum.push_back(0.0);
-          res.nis_dof.push_back(u.dof);
-        }
-        nis_sum[update_index] += u.nis;
-        if (!u.accepted) {
-          ++res.rejected;
-          if (t1 > kOutageEnd && first_after_outage) ++res.rejected_after_outage;
-        }
-        // The navigator's recovery: a gate alone can lock the filter out (one run in ~5,000
-        // rejected every fix after the outage), so after a few rejections in a row the
-        // attitude restarts from a lost-in-space fix, modelled as one more fix.
-        if (f.consecutiveRejections() >= NavigatorOptions{}.reinit_after_rejections) {
-          f.resetAttitude(t1, q_true * quatExp(fix_chol.matrixL() * normal3()), kFixCov);
-          ++res.reinits;
-        }
+        const bool lis = loop.frameInputs(t1).force_lost_in_space;
+        const FrameResult fix = makeFix(mode, q_true, lis, update_index, rng, catalog);
+        q_fix = fix.q_ib;
+        loop.pushFix(t1, uint64_t(k + 1), fix);
         if (t1 > kOutageEnd) first_after_outage = false;
         if (t1 > 10) {
           se_filter += std::pow(attitudeError(f.attitude(), q_true).total, 2);
@@ -199,7 +234,8 @@ McResult runMonteCarlo(Mode mode, double q_scale) {
       if (std::abs(t1 - 60) < 1e-9) {
         for (int a = 0; a < 3; ++a)
           bias_in += std::abs(e[3 + a]) <= 3 * std::sqrt(f.covariance()(3 + a, 3 + a)) ? 1 : 0;
-        sigma_ratio += std::sqrt(f.covariance()(3, 3)) / opt.initial_bias_sigma_rad_s / kRuns;
+        sigma_ratio +=
+            std::sqrt(f.covariance()(3, 3)) / fo.filter.initial_bias_sigma_rad_s / kRuns;
       }
       if (in_outage) {
         for (int a = 0; a < 3; ++a) {
@@ -210,8 +246,10 @@ McResult runMonteCarlo(Mode mode, double q_scale) {
       if (std::abs(t1 - kOutageEnd) < 1e-9)
         res.sigma_growth = std::min(res.sigma_growth, f.attitudeCov().trace() / trace_at_outage);
     }
+    loop.flush();
+    res.reinits += loop.reinitializations();
   }
-  for (double s : nis_sum) res.nis.push_back(s / kRuns);
+  for (std::size_t i = 0; i < nis_sum.size(); ++i) res.nis.push_back(nis_sum[i] / nis_count[i]);
   res.bias_inside_3sigma_at_60 = bias_in / (3.0 * kRuns);
   res.bias_sigma_ratio_at_60 = sigma_ratio;
   res.rms_filter = std::sqrt(se_filter / n_err);

@@ -12,7 +12,8 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "fusion/consistency.hpp"
-#include "fusion/navigator.hpp"
+#include "navigation/navigator.hpp"
+#include "navigation/tracker_config.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/sim_observations.hpp"
 
@@ -48,7 +49,7 @@ NavigatorOptions navOptions(const Scenario& sc) {
   o.pipeline.detect.gain_e_per_adu = sc.sensor.gain();
   o.pipeline.detect.read_noise_adu = sc.sensor.read_noise_e / sc.sensor.gain();
   // The gyro datasheet numbers of the scenario; bias prior covering the 3 deg/h turn-on bias.
-  o.filter = MekfOptions::fromDatasheet(0.15, 0.5, 5.0);
+  o.fusion.filter = MekfOptions::fromDatasheet(0.15, 0.5, 5.0);
   return o;
 }
 
@@ -231,7 +232,7 @@ TEST(Navigator, ThirtySecondOutageCoastsAndResumesTracking) {
     } else if (s.t >= 50.0 - 1e-6 && !resumed) {
       resumed = true;
       EXPECT_EQ(s.mode, StarTrackerMode::kTracking) << "first frame after the outage";
-      EXPECT_EQ(s.update, "accepted");
+      EXPECT_EQ(s.use, FixUse::kAccepted);
     } else {
       prev_sigma = 0;
     }
@@ -345,11 +346,11 @@ TEST(NavigatorConfig, ReadsTrackerIniAndNamesBadKeys) {
       "[filter]\narw_deg_rt_h = 0.3\nupdate = stars\n[pipeline]\ngain_e_per_adu = 8\n"
       "solver = svd\n[navigator]\nreinit_after_rejections = 5\n[database]\nmag_limit = 6\n");
   const TrackerConfig c = TrackerConfig::fromConfig(good, "t.ini");
-  EXPECT_NEAR(c.nav.filter.arw_rad_rt_s, deg2rad(0.3) / 60.0, 1e-15);
-  EXPECT_EQ(c.nav.update, "stars");
+  EXPECT_NEAR(c.nav.fusion.filter.arw_rad_rt_s, deg2rad(0.3) / 60.0, 1e-15);
+  EXPECT_EQ(c.nav.fusion.update, FusionOptions::Update::kStarVectors);
   EXPECT_EQ(c.nav.pipeline.detect.gain_e_per_adu, 8.0);
   EXPECT_EQ(c.nav.pipeline.solver, "svd");
-  EXPECT_EQ(c.nav.reinit_after_rejections, 5);
+  EXPECT_EQ(c.nav.fusion.reinit_after_rejections, 5);
   EXPECT_EQ(c.database.mag_limit, 6.0);
   EXPECT_FALSE(c.camera.has_value());
 

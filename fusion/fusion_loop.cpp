@@ -1,0 +1,383 @@
+#include "fusion/fusion_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "common/check.hpp"
+#include "common/errors.hpp"
+
+namespace st {
+
+namespace {
+
+constexpr std::size_t kRateRing = 256;  // gyro samples kept for the mean rate (>= 1 kHz x 0.1 s)
+
+std::string fmtTime(double t) {
+  char b[64];
+  std::snprintf(b, sizeof b, "t = %.6f s", t);
+  return b;
+}
+
+bool isRotation(const Mat3& R) {
+  return (R * R.transpose() - Mat3::Identity()).norm() < 1e-9 && R.determinant() > 0;
+}
+
+}  // namespace
+
+bool FusionOptions::isValid(std::string* why) const {
+  auto bad = [&](const std::string& key, const std::string& msg) {
+    if (why) *why = "'" + key + "': " + msg;
+    return false;
+  };
+  std::string err;
+  if (!filter.isValid(&err)) return bad("filter", err);
+  if (reinit_after_rejections < 1) return bad("reinit_after_rejections", "must be >= 1");
+  if (!(reorder_window_s >= 0)) return bad("reorder_window_s", "must be >= 0");
+  if (!(gyro_gap_factor > 1)) return bad("gyro_gap_factor", "must be > 1");
+  if (!(rate_window_s > 0)) return bad("rate_window_s", "must be > 0");
+  if (!isRotation(R_body_gyro)) return bad("R_body_gyro", "not a rotation matrix");
+  if (!isRotation(R_body_camera)) return bad("R_body_camera", "not a rotation matrix");
+  if (max_warnings < 0) return bad("max_warnings", "must be >= 0");
+  return true;
+}
+
+const char* toString(FusionOptions::Update u) {
+  return u == FusionOptions::Update::kStarVectors ? "stars" : "attitude";
+}
+
+const char* toString(FixUse u) {
+  switch (u) {
+    case FixUse::kNoFix: return "none";
+    case FixUse::kInitialized: return "initialized";
+    case FixUse::kReinitialized: return "reinitialized";
+    case FixUse::kAccepted: return "accepted";
+    case FixUse::kRejected: return "rejected";
+    case FixUse::kIgnored: return "ignored";
+  }
+  return "?";
+}
+
+bool FusionLoop::Event::operator<(const Event& o) const {
+  if (t != o.t) return t > o.t;
+  if (kind != o.kind) return kind > o.kind;
+  return seq > o.seq;
+}
+
+static FusionOptions validated(FusionOptions o) {
+  std::string why;
+  if (!o.isValid(&why)) throw InputError("fusion option " + why);
+  return o;
+}
+
+FusionLoop::FusionLoop(FusionOptions options, StarDirection star_direction)
+    : opts_(validated(std::move(options))),
+      star_direction_(std::move(star_direction)),
+      filter_(opts_.filter) {
+  recent_.reserve(kRateRing);
+}
+
+void FusionLoop::warn(const std::string& msg) {
+  ++warning_count_;
+  if (static_cast<int>(warnings_.size()) < opts_.max_warnings) warnings_.push_back(msg);
+}
+
+// ---- events ----------------------------------------------------------------------------
+
+void FusionLoop::pushGyro(double t, const Vec3& rate_gyro) {
+  Event e{t, kGyro, 0, 0, opts_.R_body_gyro * rate_gyro, std::nullopt};
+  push(std::move(e));
+}
+
+void FusionLoop::pushFrame(double t, uint64_t tag) {
+  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::nullopt});
+}
+
+void FusionLoop::pushFix(double t, uint64_t tag, FrameResult fix) {
+  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::move(fix)});
+}
+
+void FusionLoop::pushMarker(double t, uint64_t tag) {
+  push(Event{t, kMarker, 0, tag, Vec3::Zero(), std::nullopt});
+}
+
+void FusionLoop::push(Event e) {
+  static const char* const kNames[] = {"gyro sample", "frame", "marker"};
+  const std::pair<double, int> key{e.t, e.kind};
+  if (!std::isfinite(e.t)) {
+    warn(std::string(kNames[e.kind]) + " with a non-finite time: dropped");
+    return;
+  }
+  if (last_processed_ && key <= *last_processed_) {
+    const bool dup = key == *last_processed_;
+    warn(std::string(dup ? "duplicate " : "out-of-order ") + kNames[e.kind] + " at " +
+         fmtTime(e.t) +
+         (dup ? "" : " (already processed up to " + fmtTime(last_processed_->first) + ")") +
+         ": dropped");
+    return;
+  }
+  for (const Event& q : queue_) {
+    if (q.t == e.t && q.kind == e.kind) {
+      warn(std::string("duplicate ") + kNames[e.kind] + " at " + fmtTime(e.t) + ": dropped");
+      return;
+    }
+  }
+  e.seq = seq_++;
+  newest_t_ = std::max(newest_t_, e.t);
+  queue_.push_back(std::move(e));
+  std::push_heap(queue_.begin(), queue_.end());
+  while (!queue_.empty() && queue_.front().t <= newest_t_ - opts_.reorder_window_s) {
+    std::pop_heap(queue_.begin(), queue_.end());
+    Event next = std::move(queue_.back());
+    queue_.pop_back();
+    process(next);
+  }
+}
+
+void FusionLoop::flush() {
+  while (!queue_.empty()) {
+    std::pop_heap(queue_.begin(), queue_.end());
+    Event next = std::move(queue_.back());
+    queue_.pop_back();
+    process(next);
+  }
+}
+
+void FusionLoop::process(Event& e) {
+  last_processed_ = {e.t, e.kind};
+  switch (e.kind) {
+    case kGyro: onGyro(e.t, e.rate); break;
+    case kFrame: onFrame(e); break;
+    case kMarker: {
+      FusionStep s;
+      s.t = e.t;
+      s.tag = e.tag;
+      s.filter = stateAt(e.t);
+      emit(s);
+      break;
+    }
+    default: ST_ASSERT(false);
+  }
+}
+
+// ---- gyro ------------------------------------------------------------------------------
+
+void FusionLoop::onGyro(double t, const Vec3& rate) {
+  if (!rate.allFinite()) {
+    warn("gyro sample at " + fmtTime(t) + " has a non-finite rate: dropped");
+    return;
+  }
+  double dt = 0;
+  if (last_gyro_t_) {
+    dt = t - *last_gyro_t_;
+    if (dt > 0 && (gyro_dt_nominal_ == 0 || dt < gyro_dt_nominal_)) gyro_dt_nominal_ = dt;
+  }
+  if (last_gyro_t_ && gyro_dt_nominal_ > 0 && dt > opts_.gyro_gap_factor * gyro_dt_nominal_) {
+    char b[160];
+    std::snprintf(b, sizeof b, "gyro gap of %.3f s ending at %s: coasted", dt, fmtTime(t).c_str());
+    warn(b);
+    // The sample is the mean rate over its own interval only: coast up to its start.
+    coastTo(t - gyro_dt_nominal_);
+  }
+  in_gap_ = false;
+  last_gyro_t_ = t;
+  if (recent_.size() < kRateRing) {
+    recent_.push_back({t, rate});
+  } else {
+    recent_[recent_next_ % kRateRing] = {t, rate};
+  }
+  ++recent_next_;
+  if (filter_.initialized() && t > filter_.time()) filter_.propagate(rate, t);
+}
+
+Vec3 FusionLoop::meanRate(double t, const std::vector<TimedRate>& extra) const {
+  // The samples of the last rate_window_s up to t (at least the newest one): one sample
+  // carries the full white rate noise.
+  Vec3 sum = Vec3::Zero();
+  int n = 0;
+  const TimedRate* newest = nullptr;
+  auto take = [&](const TimedRate& r) {
+    if (r.t > t) return;
+    if (!newest || r.t > newest->t) newest = &r;
+    if (r.t > t - opts_.rate_window_s) {
+      sum += r.rate;
+      ++n;
+    }
+  };
+  for (const TimedRate& r : recent_) take(r);
+  for (const TimedRate& r : extra) take(r);
+  if (n > 0) return sum / n;
+  return newest ? newest->rate : filter_.bias();
+}
+
+bool FusionLoop::gyroStale(double t) const {
+  return last_gyro_t_ && gyro_dt_nominal_ > 0 &&
+         t - *last_gyro_t_ > opts_.gyro_gap_factor * gyro_dt_nominal_;
+}
+
+void FusionLoop::coastTo(double t) {
+  if (!filter_.initialized() || !(t > filter_.time())) return;
+  // Without gyro samples the rate is held at the mean of the last samples. That rate's error
+  // is constant over the coast, not white: its variance sigma_v^2 / T_mean (T_mean = the
+  // averaging time) grows the attitude variance by tau^2 sigma_v^2 / T_mean on top of the
+  // filter's own process noise (which models the white rate noise of real samples).
+  const double from = last_gyro_t_ ? *last_gyro_t_ : filter_.time();
+  int n = 0;
+  for (const TimedRate& r : recent_) n += r.t > from - opts_.rate_window_s;
+  const double t_mean = std::max(1, n) * std::max(gyro_dt_nominal_, 1e-3);
+  const double tau = t - filter_.time();
+  const double sv = filter_.options().arw_rad_rt_s;
+  Mat6 P = filter_.covariance();
+  P.topLeftCorner<3, 3>() += Mat3::Identity() * (tau * tau * sv * sv / t_mean);
+  const Vec3 rate = meanRate(from, {});
+  filter_.initialize(filter_.time(), filter_.attitude(), filter_.bias(), P);
+  filter_.propagate(rate, t);
+}
+
+// ---- frames ----------------------------------------------------------------------------
+
+// GCC 12 reports a false "may be used uninitialized" inside Eigen's AVX code when the filter
+// (fixed-size 6x6 matrices) is copied.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+FrameInputs FusionLoop::frameInputs(double t) const {
+  FrameInputs in;
+  // Gyro samples still held for ordering are already known: a live tracker asks ahead of the
+  // filter, and one noisy sample extrapolated over the whole window would be worse.
+  std::vector<TimedRate> ahead;
+  for (const Event& e : queue_) {
+    if (e.kind == kGyro && e.t <= t && e.rate.allFinite()) ahead.push_back({e.t, e.rate});
+  }
+  std::sort(ahead.begin(), ahead.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+  const bool have_rate = !recent_.empty() || !ahead.empty();
+  const bool stale = ahead.empty() && gyroStale(t);
+  if (reinit_pending_) {
+    in.force_lost_in_space = true;
+  } else if (filter_.initialized()) {
+    MekfPrediction p;
+    if (ahead.empty()) {
+      p = filter_.predictAt(t);
+    } else {
+      AttitudeMekf copy = filter_;
+      for (const TimedRate& r : ahead) {
+        if (r.t > copy.time()) copy.propagate(r.rate, r.t);
+      }
+      p = copy.predictAt(t);
+    }
+    AttitudePrediction a;
+    a.q_ib = p.q_ib;
+    a.cov_body = p.attitudeCov();
+    a.rate_body = meanRate(t, ahead) - p.bias;
+    in.prediction = a;
+    return in;
+  }
+  // No attitude yet (or a re-initialisation pending): the gyro's rate still tells
+  // lost-in-space how the stars streak (the unknown bias, a few deg/h, is nothing next to a
+  // streak).
+  if (have_rate && !stale) in.rate_body = meanRate(t, ahead) - filter_.bias();
+  return in;
+}
+#pragma GCC diagnostic pop
+
+void FusionLoop::onFrame(Event& e) {
+  const double t = e.t;
+  if (filter_.initialized() && gyroStale(t)) {
+    if (!in_gap_) {
+      warn("gyro gap: no gyro sample since " + fmtTime(*last_gyro_t_) + " at the frame at " +
+           fmtTime(t) + ": coasting on the mean of the last rates");
+      in_gap_ = true;
+    }
+    coastTo(t);
+  }
+  FrameResult made;
+  const FrameResult* fix = nullptr;
+  if (e.fix) {
+    fix = &*e.fix;
+  } else {
+    ST_ASSERT(processor_);  // pushFrame without a processor is a caller bug
+    made = processor_(e.tag, t, frameInputs(t));
+    fix = &made;
+  }
+  FusionStep s;
+  s.t = t;
+  s.tag = e.tag;
+  s.is_frame = true;
+  s.frame = fix;
+  s.use = useFix(t, *fix, s.update);
+  s.filter = stateAt(t);
+  emit(s);
+}
+
+FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u) {
+  if (!fix.hasAttitude()) return FixUse::kNoFix;
+  const bool lis = fix.mode == StarTrackerMode::kLostInSpace;
+  if (!filter_.initialized()) {
+    filter_.initialize(t, fix.q_ib, fix.cov_body);
+    return FixUse::kInitialized;
+  }
+  if (reinit_pending_) {
+    if (!lis) return FixUse::kIgnored;
+    // Keep what the filter learned about the bias; the attitude restarts from the fix.
+    filter_.resetAttitude(t, fix.q_ib, fix.cov_body);
+    reinit_pending_ = false;
+    ++reinits_;
+    return FixUse::kReinitialized;
+  }
+  if (t > filter_.time()) filter_.predictTo(t);
+  u = update(fix);
+  if (u.accepted) return FixUse::kAccepted;
+  if (filter_.consecutiveRejections() >= opts_.reinit_after_rejections) {
+    warn(std::to_string(filter_.consecutiveRejections()) +
+         " star-tracker fixes in a row rejected by the filter at " + fmtTime(t) +
+         ": re-initialising from lost-in-space");
+    reinit_pending_ = true;
+  }
+  return FixUse::kRejected;
+}
+
+MekfUpdateResult FusionLoop::update(const FrameResult& fix) {
+  if (opts_.update == FusionOptions::Update::kAttitude || fix.stars.size() < 2 ||
+      !star_direction_) {
+    return filter_.updateAttitude(fix.q_ib, fix.cov_body);
+  }
+  // Tight coupling: per-star sigma from the fix covariance. For n stars of equal sigma the
+  // QUEST information matrix is sum (I - b b^T) / sigma^2, whose trace is 2 n / sigma^2
+  // (seed 004 §6 covariance of the attitude solution).
+  const Mat3 info = fix.cov_body.inverse();
+  const double n = static_cast<double>(fix.stars.size());
+  const double sigma = std::sqrt(2.0 * n / std::max(info.trace(), 1e-300));
+  std::vector<StarVectorMeasurement> meas;
+  meas.reserve(fix.stars.size());
+  for (const MatchedStar& m : fix.stars) {
+    const std::optional<Vec3> r = star_direction_(m.catalog_id);
+    if (!r) continue;
+    meas.push_back(StarVectorMeasurement::fromSigma((opts_.R_body_camera * m.v_cam).normalized(),
+                                                    *r, sigma));
+  }
+  if (meas.empty()) return filter_.updateAttitude(fix.q_ib, fix.cov_body);
+  return filter_.updateStarVectors(meas);
+}
+
+FilterState FusionLoop::stateAt(double t) const {
+  FilterState s;
+  s.initialized = filter_.initialized();
+  if (!s.initialized) return s;
+  if (t == filter_.time()) {
+    s.q_ib = filter_.attitude();
+    s.bias = filter_.bias();
+    s.P = filter_.covariance();
+  } else {
+    const MekfPrediction p = filter_.predictAt(t);
+    s.q_ib = p.q_ib;
+    s.bias = p.bias;
+    s.P = p.P;
+  }
+  s.q_ib = canonical(s.q_ib);
+  return s;
+}
+
+void FusionLoop::emit(FusionStep& s) {
+  if (callback_) callback_(s);
+}
+
+}  // namespace st

@@ -1,0 +1,181 @@
+/// @file fusion_loop.hpp
+/// The one attitude-fusion loop (DESIGN.md data flow), MRPT-free. Replay, the live app and
+/// the Monte Carlo consistency tests all drive this class; MRPT adapters (fusion/mrpt/) only
+/// decode observations into its events. It owns one AttitudeMekf and decides, for every
+/// event in timestamp order:
+///   gyro sample    -> mounting rotation, non-finite samples dropped, gaps coasted through,
+///                     propagate;
+///   frame          -> the tracker's inputs (the filter's prediction at the frame time, or the
+///                     gyro rate before the filter has an attitude, or "lost-in-space" while a
+///                     re-initialisation is pending) -> the FrameProcessor -> the fix;
+///   fix            -> a frame processed elsewhere (the live sensor's thread asked
+///                     frameInputs() itself) -> the same update as a frame's fix;
+///   marker         -> a step with the filter's state at that time (e.g. a truth time).
+///
+/// Policies, one place for all callers:
+///  - ordering: events are held for `reorder_window_s` past the newest event time and taken
+///    in (time, kind) order, kind gyro < frame/fix < marker; an event older than what was
+///    already processed, or a duplicate (same time and kind), is dropped with a warning. Live
+///    fixes arrive after their processing time: their window is the latency allowed;
+///  - gyro gaps: a sample later than gyro_gap_factor nominal intervals after the previous one
+///    is coasted to (the mean rate of the last rate_window_s held, with the covariance of a
+///    held rate error added), frames inside a gap coast too;
+///  - the rate handed to a tracker is the mean gyro rate over the last rate_window_s before
+///    the frame minus the bias estimate;
+///  - the first fix initialises the filter; after reinit_after_rejections fixes in a row
+///    refused by the filter's gate the loop asks the tracker for lost-in-space
+///    (FrameInputs::force_lost_in_space) and re-initialises the attitude from the next
+///    lost-in-space fix, keeping the bias (AttitudeMekf::resetAttitude). Tracking fixes made
+///    before that request was seen are not used;
+///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector.
+///
+/// Time: seconds as double on the caller's scale (seconds from the first observation of a
+/// run). Not thread-safe: the live adapter serialises calls.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fusion/mekf.hpp"
+#include "sensors/tracking/frame.hpp"
+
+namespace st {
+
+struct FusionOptions {
+  MekfOptions filter = MekfOptions::fromDatasheet(0.15, 0.5, 10.0);
+  enum class Update : uint8_t { kAttitude, kStarVectors };
+  Update update = Update::kAttitude;  ///< how fixes enter the filter
+  int reinit_after_rejections = 3;    ///< gate rejections in a row -> re-initialise
+  double reorder_window_s = 0.05;     ///< events are held this long to be sorted
+  /// A gyro interval longer than this many nominal intervals is a gap (coasted through).
+  double gyro_gap_factor = 2.5;
+  double rate_window_s = 0.1;         ///< [s] gyro samples averaged for the rate handed on
+  Mat3 R_body_gyro = Mat3::Identity();    ///< mounting of the gyro: w_body = R w_gyro
+  Mat3 R_body_camera = Mat3::Identity();  ///< of the star tracker (star-vector updates)
+  int max_warnings = 50;              ///< warnings kept (later ones are only counted)
+
+  bool isValid(std::string* why = nullptr) const;
+};
+/// "attitude" | "stars".
+const char* toString(FusionOptions::Update u);
+
+/// The filter's state at a time, after any update there.
+struct FilterState {
+  bool initialized = false;
+  Quat q_ib = Quat::Identity();
+  Vec3 bias = Vec3::Zero();  ///< [rad/s]
+  Mat6 P = Mat6::Zero();
+  Mat3 attitudeCov() const { return P.topLeftCorner<3, 3>(); }
+};
+
+/// What the loop did with a fix.
+enum class FixUse : uint8_t {
+  kNoFix,          ///< the frame gave no attitude
+  kInitialized,    ///< the filter started from it
+  kReinitialized,  ///< the attitude restarted from it (lost-in-space after rejections)
+  kAccepted,       ///< filter update accepted
+  kRejected,       ///< refused by the filter's gate
+  kIgnored,        ///< a re-initialisation was pending and the fix was not lost-in-space
+};
+const char* toString(FixUse u);
+
+/// One output step: a frame (or fix) or a marker.
+struct FusionStep {
+  double t = 0;
+  uint64_t tag = 0;             ///< the caller's id of the frame / marker
+  bool is_frame = false;
+  const FrameResult* frame = nullptr;  ///< is_frame: valid during the callback only
+  FixUse use = FixUse::kNoFix;
+  MekfUpdateResult update;      ///< kAccepted / kRejected: the innovation record
+  FilterState filter;
+};
+
+class FusionLoop {
+ public:
+  /// Processes a frame due at `t` with the loop's inputs (replay: the tracker runs here).
+  using FrameProcessor = std::function<FrameResult(uint64_t tag, double t, const FrameInputs&)>;
+  using StepCallback = std::function<void(const FusionStep&)>;
+  /// Inertial unit vector of a catalog star (star-vector updates); nothing if unknown.
+  using StarDirection = std::function<std::optional<Vec3>(uint32_t catalog_id)>;
+
+  /// Throws InputError (naming the option) for invalid options.
+  explicit FusionLoop(FusionOptions options, StarDirection star_direction = {});
+
+  void setFrameProcessor(FrameProcessor p) { processor_ = std::move(p); }
+  void setStepCallback(StepCallback cb) { callback_ = std::move(cb); }
+
+  /// Rate [rad/s] in the gyro frame: the mean over the interval ending at t.
+  void pushGyro(double t, const Vec3& rate_gyro);
+  /// A frame to process with the FrameProcessor when it is due.
+  void pushFrame(double t, uint64_t tag);
+  /// A frame already processed (its tracker asked frameInputs() itself).
+  void pushFix(double t, uint64_t tag, FrameResult fix);
+  /// A step with the filter's state at t.
+  void pushMarker(double t, uint64_t tag);
+  /// Processes everything queued.
+  void flush();
+
+  /// The tracker's inputs for a frame at t: the filter propagated through the gyro samples
+  /// already known (also those still held for ordering); the filter itself is unchanged.
+  FrameInputs frameInputs(double t) const;
+
+  const AttitudeMekf& filter() const { return filter_; }
+  const FusionOptions& options() const { return opts_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  int warningCount() const { return warning_count_; }
+  int reinitializations() const { return reinits_; }
+  bool reinitPending() const { return reinit_pending_; }
+
+ private:
+  enum Kind : int { kGyro = 0, kFrame = 1, kMarker = 2 };
+  struct Event {
+    double t;
+    int kind;
+    uint64_t seq, tag;
+    Vec3 rate;                        // kGyro (body frame)
+    std::optional<FrameResult> fix;   // kFrame made elsewhere
+    bool operator<(const Event& o) const;  // heap order: later is "less"
+  };
+  struct TimedRate {
+    double t;
+    Vec3 rate;
+  };
+
+  void push(Event e);
+  void process(Event& e);
+  void onGyro(double t, const Vec3& rate_body);
+  void onFrame(Event& e);
+  FixUse useFix(double t, const FrameResult& fix, MekfUpdateResult& u);
+  MekfUpdateResult update(const FrameResult& fix);
+  void coastTo(double t);
+  bool gyroStale(double t) const;
+  Vec3 meanRate(double t, const std::vector<TimedRate>& extra) const;
+  FilterState stateAt(double t) const;
+  void emit(FusionStep& s);
+  void warn(const std::string& msg);
+
+  FusionOptions opts_;
+  StarDirection star_direction_;
+  FrameProcessor processor_;
+  StepCallback callback_;
+  AttitudeMekf filter_;
+
+  std::vector<Event> queue_;  // heap
+  uint64_t seq_ = 0;
+  double newest_t_ = -1e300;
+  std::optional<std::pair<double, int>> last_processed_;
+
+  std::optional<double> last_gyro_t_;
+  double gyro_dt_nominal_ = 0;
+  std::vector<TimedRate> recent_;  // ring of the last gyro rates (body frame)
+  std::size_t recent_next_ = 0;
+  bool in_gap_ = false;
+  bool reinit_pending_ = false;
+  int reinits_ = 0;
+  std::vector<std::string> warnings_;
+  int warning_count_ = 0;
+};
+
+}  // namespace st

@@ -1,0 +1,58 @@
+#include "navigation/nav_step.hpp"
+
+#include <sstream>
+
+#include "common/conventions.hpp"
+
+namespace st {
+
+void fillFilterState(NavStep& s, const FilterState& f) {
+  s.initialized = f.initialized;
+  if (!f.initialized) return;
+  s.q_ib = canonical(f.q_ib);
+  s.bias = f.bias;
+  s.P_att = f.attitudeCov();
+  s.sigma_att = s.P_att.diagonal().cwiseMax(0.0).cwiseSqrt();
+  s.sigma_bias = f.P.bottomRightCorner<3, 3>().diagonal().cwiseMax(0.0).cwiseSqrt();
+}
+
+std::string navStepCsvHeader() {
+  return "t_s,has_frame,mode,stars,frame_ms,initialized,reinit,qw,qx,qy,qz,"
+         "bias_x_deg_h,bias_y_deg_h,bias_z_deg_h,sigma_x_arcsec,sigma_y_arcsec,sigma_z_arcsec,"
+         "sigma_bias_x_deg_h,sigma_bias_y_deg_h,sigma_bias_z_deg_h,update,"
+         "innov_x_arcsec,innov_y_arcsec,innov_z_arcsec,innov_sigma_x_arcsec,"
+         "innov_sigma_y_arcsec,innov_sigma_z_arcsec,nis,nis_dof,has_truth,err_arcsec,"
+         "err_cross_arcsec,err_roll_arcsec,nees,fix_err_arcsec,sigma_cross_arcsec,"
+         "sigma_roll_arcsec,fix_nees,misidentified,blend_claims";
+}
+
+std::string navStepCsvRow(const NavStep& s) {
+  const double deg_h = kDegPerRad * 3600.0;
+  std::ostringstream o;
+  o.precision(10);
+  o << s.t << ',' << int(s.has_frame) << ','
+    << (s.has_frame ? toString(s.mode) : "no-frame") << ',' << s.stars_matched << ','
+    << s.frame_time_s * 1e3 << ',' << int(s.initialized) << ',' << int(s.reinitialized);
+  const Quat q = canonical(s.q_ib);
+  o << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z();
+  for (int i = 0; i < 3; ++i) o << ',' << s.bias[i] * deg_h;
+  for (int i = 0; i < 3; ++i) o << ',' << rad2arcsec(s.sigma_att[i]);
+  for (int i = 0; i < 3; ++i) o << ',' << s.sigma_bias[i] * deg_h;
+  o << ',' << toString(s.use);
+  for (int i = 0; i < 3; ++i)
+    o << ',' << (s.innovation.size() > i ? rad2arcsec(s.innovation[i]) : 0.0);
+  for (int i = 0; i < 3; ++i) {
+    o << ','
+      << (s.innovation_cov.rows() > i ? rad2arcsec(std::sqrt(s.innovation_cov(i, i))) : 0.0);
+  }
+  o << ',' << s.nis << ',' << s.nis_dof << ',' << int(s.has_truth);
+  o << ',' << rad2arcsec(s.error.total) << ',' << rad2arcsec(s.error.cross_boresight) << ','
+    << rad2arcsec(s.error.roll) << ',' << s.nees << ','
+    << (s.fix && s.has_truth ? rad2arcsec(s.fix_error.total) : 0.0);
+  const AttitudeSigma sg = attitudeSigma(s.P_att);
+  o << ',' << rad2arcsec(sg.cross_boresight) << ',' << rad2arcsec(sg.roll);
+  o << ',' << (s.fix && s.has_truth ? s.fix_nees : 0.0) << ',' << s.misidentified << ',' << s.blend_claims;
+  return o.str();
+}
+
+}  // namespace st

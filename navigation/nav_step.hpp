@@ -1,0 +1,65 @@
+/// @file nav_step.hpp
+/// One output step of the navigator: one per frame, plus one per GROUND_TRUTH time without a
+/// frame (a dropped frame or an outage: the filter's prediction there). Truth fields are
+/// filled by navigation/truth_scoring.hpp.
+#pragma once
+#include <mrpt/core/Clock.h>
+
+#include <string>
+
+#include "common/attitude.hpp"
+#include "fusion/fusion_loop.hpp"
+#include "sensors/tracking/frame.hpp"
+
+namespace st {
+
+struct NavStep {
+  mrpt::Clock::time_point stamp;
+  double t = 0;              ///< [s] from the first observation
+  bool has_frame = false;    ///< a frame (or a fix) was processed
+  StarTrackerMode mode = StarTrackerMode::kFailed;  ///< the tracker's mode (has_frame only)
+  FrameFailure failure = FrameFailure::kNone;
+  std::string reason;        ///< the tracker's detail / the filter's rejection reason
+  int stars_matched = 0;
+  double frame_time_s = 0;   ///< wall time of the tracker
+  bool fix = false;          ///< the tracker produced an attitude
+  Quat q_fix = Quat::Identity();
+  Mat3 cov_fix = Mat3::Zero();
+
+  bool initialized = false;    ///< the filter holds a state (false before the first fix)
+  bool reinitialized = false;  ///< the filter was (re-)initialised from this frame's fix
+  Quat q_ib = Quat::Identity();
+  Vec3 bias = Vec3::Zero();        ///< [rad/s]
+  Mat3 P_att = Mat3::Zero();       ///< [rad^2] body frame
+  Vec3 sigma_att = Vec3::Zero();   ///< [rad] 1-sigma per body axis
+  Vec3 sigma_bias = Vec3::Zero();  ///< [rad/s]
+
+  FixUse use = FixUse::kNoFix;     ///< what the filter did with the fix
+  Eigen::VectorXd innovation;
+  Eigen::MatrixXd innovation_cov;
+  double nis = 0;
+  int nis_dof = 0;
+
+  bool has_truth = false;
+  Quat q_true = Quat::Identity();
+  AttitudeError error;          ///< filter estimate vs truth
+  double nees = 0;              ///< attitude NEES, 3 dof
+  AttitudeError fix_error;      ///< raw fix vs truth (fix && has_truth)
+  double fix_nees = 0;          ///< raw fix NEES with its own covariance, 3 dof
+  /// Matched stars whose identity the truth's star list contradicts: the claimed star is
+  /// not in the frame, or another true star lies nearer to the centroid and is resolved
+  /// from it (fix && the truth lists stars).
+  int misidentified = 0;
+  /// Matched stars named after one member of an unresolved pair (< 2 PSF sigma apart) while
+  /// the other member is nearer to the centroid: one image peak, either name is right.
+  int blend_claims = 0;
+};
+
+/// Copies a filter state into a step (attitude, bias, covariance, 1-sigma per axis).
+void fillFilterState(NavStep& s, const FilterState& f);
+
+/// CSV of the steps: header line and one row (t in seconds from the first observation).
+std::string navStepCsvHeader();
+std::string navStepCsvRow(const NavStep& s);
+
+}  // namespace st

@@ -1,0 +1,272 @@
+#include "navigation/navigator.hpp"
+
+#include <mrpt/obs/CObservation6DFeatures.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/system/datetime.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+
+#include "common/check.hpp"
+#include "common/errors.hpp"
+#include "navigation/truth_scoring.hpp"
+#include "sensors/sim/sim_observations.hpp"
+
+namespace st {
+
+namespace {
+
+Mat3 rotationOf(const mrpt::poses::CPose3D& pose) {
+  const auto& R = pose.getRotationMatrix();
+  Mat3 out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out(r, c) = R(r, c);
+  return out;
+}
+
+FusionOptions withCameraMounting(FusionOptions f, const PipelineOptions& p) {
+  f.R_body_camera = rotationOf(p.sensor_pose);
+  return f;
+}
+
+FusionOptions validatedFusion(const NavigatorOptions& o) {
+  std::string why;
+  if (!o.isValid(&why)) throw InputError("navigator option " + why);
+  return withCameraMounting(o.fusion, o.pipeline);
+}
+
+std::string fmtTime(double t) {
+  char b[64];
+  std::snprintf(b, sizeof b, "t = %.6f s", t);
+  return b;
+}
+
+/// The fix of a sensor's observation as the loop's FrameResult.
+FrameResult frameResultOf(const CObservationStarTracker& o) {
+  FrameResult r;
+  r.mode = o.mode;
+  r.detail = o.reason;
+  r.q_ib = o.q_ib;
+  r.cov_body = o.cov_body;
+  r.stars = o.stars;
+  r.num_blobs = o.num_blobs;
+  r.timings = o.timings;
+  return r;
+}
+
+/// Catalog id -> inertial direction, for star-vector updates (sorted ids, binary search).
+FusionLoop::StarDirection starDirections(const StarDatabase& db) {
+  auto ids = std::make_shared<std::vector<std::pair<uint32_t, uint32_t>>>();
+  ids->reserve(db.stars().size());
+  for (uint32_t i = 0; i < db.stars().size(); ++i) ids->emplace_back(db.stars()[i].id, i);
+  std::sort(ids->begin(), ids->end());
+  return [ids, &db](uint32_t id) -> std::optional<Vec3> {
+    const auto it = std::lower_bound(ids->begin(), ids->end(), std::make_pair(id, uint32_t(0)));
+    if (it == ids->end() || it->first != id) return std::nullopt;
+    return db.stars()[it->second].u_i;
+  };
+}
+
+}  // namespace
+
+bool NavigatorOptions::isValid(std::string* why) const {
+  if (!fusion.isValid(why)) return false;
+  try {
+    pipeline.validate();
+  } catch (const InputError& e) {
+    if (why) *why = e.what();
+    return false;
+  }
+  return true;
+}
+
+Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options,
+                     Source source)
+    : db_(db),
+      opts_(std::move(options)),
+      source_(source),
+      loop_(validatedFusion(opts_), starDirections(db)) {
+  if (source_ == Source::kCameraFrames) {
+    pipeline_ = std::make_unique<StarTrackerPipeline>(db, camera, opts_.pipeline);
+    loop_.setFrameProcessor(
+        [this](uint64_t tag, double t, const FrameInputs& in) { return processFrame(tag, t, in); });
+  }
+  loop_.setStepCallback([this](const FusionStep& s) { onStep(s); });
+}
+
+Navigator::~Navigator() = default;
+
+double Navigator::secondsFromStart(mrpt::Clock::time_point t) const {
+  return t0_ ? mrpt::system::timeDifference(*t0_, t) : 0.0;
+}
+
+void Navigator::warn(const std::string& msg) {
+  if (static_cast<int>(own_warnings_.size()) < opts_.fusion.max_warnings)
+    own_warnings_.push_back(msg);
+}
+
+const std::vector<std::string>& Navigator::warnings() const {
+  all_warnings_ = own_warnings_;
+  all_warnings_.insert(all_warnings_.end(), loop_.warnings().begin(), loop_.warnings().end());
+  return all_warnings_;
+}
+
+int Navigator::warningCount() const {
+  return loop_.warningCount() + static_cast<int>(own_warnings_.size());
+}
+
+Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs) const {
+  const std::string& l = obs.sensorLabel;
+  if (l == opts_.gyro_label && dynamic_cast<const mrpt::obs::CObservationIMU*>(&obs)) return kGyro;
+  if (source_ == Source::kCameraFrames && l == opts_.camera_label &&
+      dynamic_cast<const mrpt::obs::CObservationImage*>(&obs))
+    return kCamera;
+  if (source_ == Source::kStarTrackerFixes && l == opts_.star_tracker_label &&
+      dynamic_cast<const CObservationStarTracker*>(&obs))
+    return kFix;
+  if (l == opts_.truth_label && dynamic_cast<const mrpt::obs::CObservation6DFeatures*>(&obs))
+    return kTruth;
+  return kOther;
+}
+
+void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
+  if (!obs) return;
+  const Kind kind = kindOf(*obs);
+  if (kind == kOther) return;  // not ours (e.g. STAR_TRACKER of an earlier replay)
+  if (!t0_) t0_ = obs->timestamp;
+  const double t = secondsFromStart(obs->timestamp);
+  const uint64_t tag = next_tag_++;
+  switch (kind) {
+    case kGyro:
+      loop_.pushGyro(t, rateFromObservation(static_cast<const mrpt::obs::CObservationIMU&>(*obs)));
+      return;
+    case kCamera:
+      held_[tag] = obs;
+      loop_.pushFrame(t, tag);
+      return;
+    case kFix:
+      held_[tag] = obs;
+      loop_.pushFix(t, tag, frameResultOf(static_cast<const CObservationStarTracker&>(*obs)));
+      return;
+    case kTruth:
+      held_[tag] = obs;
+      loop_.pushMarker(t, tag);
+      return;
+    default: return;
+  }
+}
+
+void Navigator::flush() {
+  loop_.flush();
+  finishPending();
+  held_.clear();
+}
+
+FrameInputs Navigator::frameInputs(mrpt::Clock::time_point t) const {
+  if (!t0_) return {};
+  return loop_.frameInputs(secondsFromStart(t));
+}
+
+FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& in) {
+  frame_obs_.reset();
+  const auto it = held_.find(tag);
+  ST_ASSERT(it != held_.end());
+  auto& io = static_cast<mrpt::obs::CObservationImage&>(*it->second);
+  FrameResult failed;
+  failed.failure = FrameFailure::kDetection;
+  cv::Mat image;
+  try {
+    io.image.forceLoad();
+    image = io.image.asCvMatRef();
+  } catch (const std::exception& e) {
+    failed.detail = "image cannot be loaded (" + std::string(e.what()).substr(0, 200) + ")";
+    warn("CAMERA image at " + fmtTime(t) + " cannot be loaded: frame skipped");
+    return failed;
+  }
+  if (image.empty()) {
+    failed.detail = "empty image";
+    warn("CAMERA observation at " + fmtTime(t) + " has an empty image: frame skipped");
+    return failed;
+  }
+  if (image.channels() == 3) {
+    cv::Mat grey;
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+    image = grey;
+  }
+  if (in.force_lost_in_space) pipeline_->reset();
+  if (in.prediction) {
+    pipeline_->setPrediction(*in.prediction);
+  } else if (in.rate_body) {
+    pipeline_->setGyroRate(*in.rate_body);
+  }
+  frame_obs_ = pipeline_->process(image, io.timestamp);
+  if (io.image.isExternallyStored()) io.image.unload();
+  return frameResultOf(*frame_obs_);
+}
+
+void Navigator::onStep(const FusionStep& fs) {
+  const auto it = held_.find(fs.tag);
+  ST_ASSERT(it != held_.end());
+  const mrpt::obs::CObservation::Ptr obs = it->second;
+  held_.erase(it);
+  if (fs.is_frame) {
+    finishPending();
+    NavStep s;
+    s.stamp = obs->timestamp;
+    s.t = fs.t;
+    s.has_frame = true;
+    const FrameResult& r = *fs.frame;
+    s.mode = r.mode;
+    s.failure = r.failure;
+    s.reason = r.detail;
+    s.stars_matched = static_cast<int>(r.stars.size());
+    s.frame_time_s = r.timings.total;
+    s.fix = r.hasAttitude();
+    if (s.fix) {
+      s.q_fix = r.q_ib;
+      s.cov_fix = r.cov_body;
+    }
+    s.use = fs.use;
+    s.reinitialized = fs.use == FixUse::kInitialized || fs.use == FixUse::kReinitialized;
+    if (fs.use == FixUse::kAccepted || fs.use == FixUse::kRejected) {
+      s.innovation = fs.update.innovation;
+      s.innovation_cov = fs.update.innovation_cov;
+      s.nis = fs.update.nis;
+      s.nis_dof = fs.update.dof;
+      if (!fs.update.accepted && !fs.update.reason.empty())
+        s.reason += (s.reason.empty() ? "" : "; ") + fs.update.reason;
+    }
+    fillFilterState(s, fs.filter);
+    pending_ = std::move(s);
+    pending_obs_ = source_ == Source::kCameraFrames
+                       ? frame_obs_
+                       : std::dynamic_pointer_cast<CObservationStarTracker>(obs);
+    frame_obs_.reset();
+    return;
+  }
+  // A truth marker: joins the frame step of the same time, or is a step of its own.
+  if (!pending_ || pending_->stamp != obs->timestamp) {
+    finishPending();
+    NavStep s;
+    s.stamp = obs->timestamp;
+    s.t = fs.t;
+    fillFilterState(s, fs.filter);
+    pending_ = std::move(s);
+    pending_obs_.reset();
+  }
+  scoreTruth(*pending_, static_cast<const mrpt::obs::CObservation6DFeatures&>(*obs),
+             pending_obs_.get());
+  finishPending();
+}
+
+void Navigator::finishPending() {
+  if (!pending_) return;
+  if (callback_) callback_(*pending_, pending_obs_);
+  if (keep_steps_) steps_.push_back(std::move(*pending_));
+  pending_.reset();
+  pending_obs_.reset();
+}
+
+}  // namespace st

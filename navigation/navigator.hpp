@@ -1,0 +1,116 @@
+/// @file navigator.hpp
+/// The MRPT edge of the one fusion loop (fusion/fusion_loop.hpp): MRPT observations from a
+/// rawlog or from live sensors are decoded by the rawlog contract (labels and encodings,
+/// DESIGN.md "Rawlogs") into the loop's events, and the loop's steps come back as NavSteps
+/// (with the star tracker's observation for the output rawlog).
+///   GYRO (CObservationIMU)              -> FusionLoop::pushGyro;
+///   CAMERA (CObservationImage)          -> FusionLoop::pushFrame: the navigator's own star
+///                                          tracker processes it with the loop's inputs
+///                                          (replay; Source::kCameraFrames);
+///   STAR_TRACKER (CObservationStarTracker) -> FusionLoop::pushFix: a fix made by a sensor
+///                                          that asked frameInputs() itself (live;
+///                                          Source::kStarTrackerFixes);
+///   GROUND_TRUTH (CObservation6DFeatures) -> a marker: scored against the filter's state
+///                                          there (navigation/truth_scoring.hpp), never seen
+///                                          by the estimator.
+/// Every policy (ordering, gaps, re-initialisation, coupling) is the loop's, so replay and
+/// live behave the same; the navigator only keeps the observations until their step.
+///
+/// Time: seconds from the first observation pushed (`secondsFromStart`).
+#pragma once
+#include <mrpt/core/Clock.h>
+#include <mrpt/obs/CObservation.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "catalog/star_database.hpp"
+#include "fusion/fusion_loop.hpp"
+#include "navigation/nav_step.hpp"
+#include "sensors/camera/camera_model.hpp"
+#include "sensors/mrpt/observation_star_tracker.hpp"
+#include "sensors/mrpt/star_tracker_pipeline.hpp"
+
+namespace st {
+
+struct NavigatorOptions {
+  PipelineOptions pipeline;  ///< the star tracker run on CAMERA frames (kCameraFrames)
+  FusionOptions fusion;
+  std::string camera_label = "CAMERA", gyro_label = "GYRO", truth_label = "GROUND_TRUTH";
+  std::string star_tracker_label = "STAR_TRACKER";  ///< fixes read in kStarTrackerFixes
+
+  bool isValid(std::string* why = nullptr) const;
+};
+
+class Navigator {
+ public:
+  enum class Source {
+    kCameraFrames,      ///< replay: CAMERA images processed by the navigator's tracker
+    kStarTrackerFixes,  ///< live: STAR_TRACKER fixes made by the sensor
+  };
+
+  /// The database and camera must outlive the navigator. Throws InputError for bad options.
+  Navigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options = {},
+            Source source = Source::kCameraFrames);
+  ~Navigator();
+  Navigator(const Navigator&) = delete;
+  Navigator& operator=(const Navigator&) = delete;
+
+  /// Called for every finished step, with the star tracker's observation (nullptr for steps
+  /// without a frame).
+  using StepCallback = std::function<void(const NavStep&, const CObservationStarTracker::Ptr&)>;
+  void setStepCallback(StepCallback cb) { callback_ = std::move(cb); }
+
+  /// Queues an observation (others than the four labels are ignored).
+  void push(const mrpt::obs::CObservation::Ptr& obs);
+  /// Processes everything queued and finishes the last step.
+  void flush();
+  /// The star tracker's inputs for a frame at `t` (a live sensor asks before each frame).
+  FrameInputs frameInputs(mrpt::Clock::time_point t) const;
+
+  /// Finished steps so far (kept unless keep_steps is false).
+  const std::vector<NavStep>& steps() const { return steps_; }
+  void setKeepSteps(bool keep) { keep_steps_ = keep; }
+
+  const std::vector<std::string>& warnings() const;
+  int warningCount() const;
+  int reinitializations() const { return loop_.reinitializations(); }
+  /// Seconds from the first observation pushed to `t` (0 before any).
+  double secondsFromStart(mrpt::Clock::time_point t) const;
+  const AttitudeMekf& filter() const { return loop_.filter(); }
+  const FusionLoop& loop() const { return loop_; }
+  const NavigatorOptions& options() const { return opts_; }
+
+ private:
+  enum Kind { kGyro, kCamera, kFix, kTruth, kOther };
+  Kind kindOf(const mrpt::obs::CObservation& obs) const;
+  FrameResult processFrame(uint64_t tag, double t, const FrameInputs& in);
+  void onStep(const FusionStep& s);
+  void finishPending();
+  void warn(const std::string& msg);
+
+  const StarDatabase& db_;
+  NavigatorOptions opts_;
+  Source source_;
+  std::unique_ptr<StarTrackerPipeline> pipeline_;
+  FusionLoop loop_;
+  std::vector<std::string> own_warnings_;
+  mutable std::vector<std::string> all_warnings_;
+
+  std::optional<mrpt::Clock::time_point> t0_;
+  uint64_t next_tag_ = 0;
+  std::map<uint64_t, mrpt::obs::CObservation::Ptr> held_;  // until their step
+  CObservationStarTracker::Ptr frame_obs_;  // the observation of the frame being processed
+
+  std::optional<NavStep> pending_;  // a frame step waiting for a truth at the same time
+  CObservationStarTracker::Ptr pending_obs_;
+  std::vector<NavStep> steps_;
+  bool keep_steps_ = true;
+  StepCallback callback_;
+};
+
+}  // namespace st

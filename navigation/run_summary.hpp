@@ -1,0 +1,15 @@
+/// @file run_summary.hpp
+/// The summary of a navigator run against GROUND_TRUTH, printed by `replay` and `live` alike:
+/// attitude errors (cross-boresight, roll, filter vs raw fixes), NEES of the filter and of the
+/// raw fixes, identification errors. Prints nothing without truth.
+#pragma once
+#include <cstdio>
+#include <vector>
+
+#include "navigation/nav_step.hpp"
+
+namespace st {
+
+void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out);
+
+}  // namespace st
