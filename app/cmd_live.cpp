@@ -48,7 +48,7 @@ volatile std::sig_atomic_t g_signal = 0;
 extern "C" void onStopSignal(int sig) { g_signal = sig; }
 
 struct LiveArgs {
-  std::string config, out;
+  std::string config, out, csv;
   double duration_s = 0;
   bool gui = false;
 };
@@ -233,7 +233,12 @@ int runLive(const LiveArgs& args) {
                 "lost-in-space), %d re-initialisations, %d warnings\n",
                 s.fixes, s.accepted, s.rejected, s.ignored, s.reinits, s.warnings);
     for (const auto& w : nav->warnings()) std::fprintf(stderr, "live: warning: %s\n", w.c_str());
-    printNavigationSummary(nav->steps(), stdout);
+    const std::vector<NavStep> steps = nav->steps();
+    printNavigationSummary(steps, stdout);
+    if (!args.csv.empty()) {
+      const int rows = writeNavStepCsv(steps, args.csv);
+      std::printf("csv: %s (%d rows)\n", args.csv.c_str(), rows);
+    }
   }
   std::fflush(stdout);
   return running > 0 ? kExitOk : kExitFailure;
@@ -254,6 +259,8 @@ void addLiveCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("--duration", args->duration_s, "Stop after this many seconds (0 = until "
                                                   "Ctrl-C / SIGTERM)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--csv", args->csv, "Trajectory CSV of the filter, one row per frame (as "
+                                      "replay's)");
   cmd->add_flag("--gui", args->gui, "Show the frame, blobs, identified stars and attitude");
   cmd->callback([args, &run] { run = [args] { return runLive(*args); }; });
 }

@@ -218,13 +218,8 @@ int runReplay(const ReplayOpts& o) {
   printNavigationSummary(steps, stdout);
 
   if (!o.csv.empty()) {
-    std::ofstream f(o.csv);
-    if (!f) throw InputError(o.csv + ": cannot write the CSV");
-    f << navStepCsvHeader() << '\n';
-    for (const NavStep& s : steps) {
-      if (s.has_frame) f << navStepCsvRow(s) << '\n';
-    }
-    std::printf("csv: %s (%d rows)\n", o.csv.c_str(), frames);
+    const int rows = writeNavStepCsv(steps, o.csv);
+    std::printf("csv: %s (%d rows)\n", o.csv.c_str(), rows);
   }
   if (writer) {
     std::printf("rawlog: %s (%zu observations, %zu STAR_TRACKER)\n", o.output.c_str(),

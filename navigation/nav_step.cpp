@@ -1,8 +1,10 @@
 #include "navigation/nav_step.hpp"
 
+#include <fstream>
 #include <sstream>
 
 #include "common/conventions.hpp"
+#include "common/errors.hpp"
 
 namespace st {
 
@@ -53,6 +55,20 @@ std::string navStepCsvRow(const NavStep& s) {
   o << ',' << rad2arcsec(sg.cross_boresight) << ',' << rad2arcsec(sg.roll);
   o << ',' << (s.fix && s.has_truth ? s.fix_nees : 0.0) << ',' << s.misidentified << ',' << s.blend_claims;
   return o.str();
+}
+
+int writeNavStepCsv(const std::vector<NavStep>& steps, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw InputError(path + ": cannot write the CSV");
+  f << navStepCsvHeader() << '\n';
+  int rows = 0;
+  for (const NavStep& s : steps) {
+    if (!s.has_frame) continue;
+    f << navStepCsvRow(s) << '\n';
+    ++rows;
+  }
+  if (!f) throw InputError(path + ": write failed");
+  return rows;
 }
 
 }  // namespace st

@@ -6,6 +6,7 @@
 #include <mrpt/core/Clock.h>
 
 #include <string>
+#include <vector>
 
 #include "common/attitude.hpp"
 #include "fusion/fusion_loop.hpp"
@@ -61,5 +62,8 @@ void fillFilterState(NavStep& s, const FilterState& f);
 /// CSV of the steps: header line and one row (t in seconds from the first observation).
 std::string navStepCsvHeader();
 std::string navStepCsvRow(const NavStep& s);
+/// Writes the header and one row per step with a frame; returns the rows written. Throws
+/// InputError naming the file when it cannot be written.
+int writeNavStepCsv(const std::vector<NavStep>& steps, const std::string& path);
 
 }  // namespace st

@@ -61,6 +61,16 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
     std::fprintf(out, "  filter: mean NEES %.3f (3 dof; 95 %% band for independent steps [%.3f, %.3f]: "
                 "%s; consecutive filter steps are correlated)\n",
                 mean_nees, band.lo, band.hi, band.contains(mean_nees) ? "inside" : "outside");
+    // The portable check of the filter's consistency (tests read this line): the fraction of
+    // steps whose NEES lies below the chi2(3) median and 95 % point (0.5 and 0.95 when
+    // consistent; successive steps are correlated through the filter).
+    const double q50 = chiSquareQuantile(0.5, 3), q95f = chiSquareQuantile(0.95, 3);
+    auto fraction = [&](double q) {
+      return double(std::count_if(nees.begin(), nees.end(), [&](double v) { return v <= q; })) /
+             double(nees.size());
+    };
+    std::fprintf(out, "  filter NEES: %.3f below the chi2(3) median, %.3f below its 95 %% point "
+                 "(%zu steps)\n", fraction(q50), fraction(q95f), nees.size());
     if (!fix_nees.empty()) {
       // Raw fixes are (nearly) independent frame to frame: the fraction of NEES values below
       // the chi2(3) 95 % point is the portable consistency check (0.95 when consistent).

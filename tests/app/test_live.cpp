@@ -1,5 +1,6 @@
-// `startracker live`: 30 s on the simulated sensors of rawlogs/live_sim.ini, stopped with
-// SIGINT, must exit 0 and leave a rawlog holding every observation its summary counted; bad
+// `startracker live`: 60 s on the simulated sensors of rawlogs/live_sim.ini, stopped with
+// SIGINT, must exit 0 and leave a rawlog holding every observation its summary counted, and
+// its filter (the one fusion loop of replay) must pass replay's per-frame NEES test; bad
 // configurations exit 2 naming the section and key; a sensor that fails to start is named
 // and the others keep recording.
 #include <gmock/gmock.h>
@@ -7,6 +8,8 @@
 #include <mrpt/obs/CObservation6DFeatures.h>
 #include <mrpt/obs/CObservationImage.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -14,6 +17,7 @@
 #include <sstream>
 
 #include "common/attitude.hpp"
+#include "fusion/consistency.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
 #include "sensors/sim/sim_observations.hpp"
@@ -60,15 +64,50 @@ Summary parseSummary(const std::string& out) {
   return s;
 }
 
-TEST(Live, ThirtySecondsOnSimulatedSensorsStoppedBySigintKeepsEveryObservation) {
-  const std::string dir = test::makeTempDir("live30");
+/// Column `name` of a CSV with a header, for rows whose column `filter` is 1, skipping the
+/// first `skip` of those rows.
+std::vector<double> csvColumn(const std::string& path, const std::string& name,
+                              const std::string& filter, std::size_t skip) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  auto split = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::stringstream ss(l);
+    std::string x;
+    while (std::getline(ss, x, ',')) f.push_back(x);
+    return f;
+  };
+  const std::vector<std::string> head = split(line);
+  const auto col = [&](const std::string& n) {
+    return std::size_t(std::find(head.begin(), head.end(), n) - head.begin());
+  };
+  const std::size_t c = col(name), cf = col(filter);
+  std::vector<double> v;
+  std::size_t seen = 0;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = split(line);
+    if (f.size() != head.size() || f[cf] != "1") continue;
+    if (seen++ >= skip) v.push_back(std::stod(f[c]));
+  }
+  return v;
+}
+
+double fractionBelow(const std::vector<double>& nees, double p) {
+  const double q = chiSquareQuantile(p, 3.0);
+  return double(std::count_if(nees.begin(), nees.end(), [&](double v) { return v <= q; })) /
+         double(nees.size());
+}
+
+TEST(Live, SixtySecondsOnSimulatedSensorsAreConsistentAndKeepEveryObservation) {
+  const std::string dir = test::makeTempDir("live60");
   const std::string ini = copyConfig(dir);
-  const std::string rawlog = dir + "/out.rawlog";
+  const std::string rawlog = dir + "/out.rawlog", csv = dir + "/out.csv";
   std::string out;
   // --preserve-status: the exit code is startracker's own after it handled SIGINT.
-  const int rc = test::runCommand("timeout --preserve-status -s INT 30 '" +
+  const int rc = test::runCommand("timeout --preserve-status -s INT 60 '" +
                                       test::startrackerExe() + "' live '" + ini + "' -o '" +
-                                      rawlog + "'",
+                                      rawlog + "' --csv '" + csv + "'",
                                   &out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_THAT(out, ::testing::HasSubstr("stopped by SIGINT")) << out;
@@ -111,6 +150,24 @@ TEST(Live, ThirtySecondsOnSimulatedSensorsStoppedBySigintKeepsEveryObservation) 
   EXPECT_GE(solved, static_cast<int>(0.95 * fixes)) << out;
   EXPECT_GE(s.tracking, static_cast<int>(0.9 * fixes)) << out;
   EXPECT_GE(consistent, static_cast<int>(0.98 * solved)) << out;
+
+  // The live filter's per-frame NEES against the truth (the CSV the live run wrote, as replay
+  // writes it): the fraction below the chi-square(3) quantile p must be p, with the bound of
+  // replay's 3000-frame test: successive frames are correlated through the filter, so N/10
+  // effective samples and 3 binomial sigma.
+  const std::vector<double> nees = csvColumn(csv, "nees", "has_truth", 10);
+  ASSERT_GE(nees.size(), 300u) << out;
+  const double n_eff = double(nees.size()) / 10.0;
+  const double tol50 = 3.0 * std::sqrt(0.25 / n_eff), tol95 = 3.0 * std::sqrt(0.0475 / n_eff);
+  std::printf("live filter NEES: %.3f below the chi2(3) median (+-%.3f), %.3f below its 95 %% "
+              "point (+-%.3f), %zu frames\n",
+              fractionBelow(nees, 0.5), tol50, fractionBelow(nees, 0.95), tol95, nees.size());
+  EXPECT_NEAR(fractionBelow(nees, 0.5), 0.5, tol50);
+  EXPECT_NEAR(fractionBelow(nees, 0.95), 0.95, tol95);
+  // Teeth: the same errors against a covariance 4x too small fail it.
+  std::vector<double> over(nees);
+  for (double& v : over) v *= 4.0;
+  EXPECT_GT(std::abs(fractionBelow(over, 0.5) - 0.5), tol50);
 
   // The frames are external PNGs beside the rawlog, and load.
   for (const auto& o : all) {
