@@ -12,6 +12,7 @@
 #include "app/annotate.hpp"
 #include "app/camera_options.hpp"
 #include "app/command.hpp"
+#include "catalog/database_recipe.hpp"
 #include "app/image_io.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
@@ -102,19 +103,15 @@ int run(const SolveOptions& o) {
                    o.database.c_str(), rad2deg(db.params().max_pair_angle), rad2deg(max_diag));
   } else {
     const StarCatalog cat = loadCatalog(StarDatabase::defaultCatalogPath());
-    DatabaseParams p{};
-    p.max_pair_angle = max_diag + deg2rad(0.2);
-    p.mag_limit = o.mag_limit;
-    p.epoch_jyear = epoch;
-    p.aberration = true;
-    p.parallax = true;
-    // Unresolved doubles: closer than ~1.5 px of the finest pixel scale in the search.
-    const double px_scale = fixed_cam ? fixed_cam->pixelScale()
-                                      : CameraModel::fromFov(w, h, grid.front()).pixelScale();
-    p.double_star_sep = 1.5 * px_scale;
-    p.max_stars_per_region = 0;
-    p.neighbour_radius = max_diag / 2;
-    db = StarDatabase::build(cat, p);
+    CameraDatabaseRecipe r;
+    r.diagonal_fov_rad = max_diag;
+    // The finest pixel scale in the search: doubles unresolved at every FOV tried.
+    r.pixel_scale_rad = fixed_cam ? fixed_cam->pixelScale()
+                                  : CameraModel::fromFov(w, h, grid.front()).pixelScale();
+    r.mag_limit = o.mag_limit;
+    r.epoch_jyear = epoch;
+    r.aberration = true;
+    db = StarDatabase::build(cat, databaseParams(r));
     char b[200];
     std::snprintf(b, sizeof b, "built in memory from %s (V <= %.1f, epoch %.2f from %s)",
                   StarDatabase::defaultCatalogPath().c_str(), o.mag_limit, epoch,

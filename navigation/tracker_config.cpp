@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "catalog/database_recipe.hpp"
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
@@ -97,16 +98,13 @@ StarDatabase makeDatabase(const DatabaseSource& src, const CameraModel& camera,
   if (!src.path.empty()) return StarDatabase::load(src.path);
   const std::string cat_path =
       src.catalog.empty() ? StarDatabase::defaultCatalogPath() : src.catalog;
-  const double max_diag = 2.0 * camera.halfDiagonalFov();
-  DatabaseParams p{};
-  p.max_pair_angle = max_diag + deg2rad(0.2);
-  p.mag_limit = src.mag_limit;
-  p.epoch_jyear = src.epoch_jyear > 0 ? src.epoch_jyear : data_epoch_jyear;
-  p.aberration = src.aberration;
-  p.double_star_sep = 1.5 * camera.pixelScale();  // unresolved doubles (as `solve`)
-  p.max_stars_per_region = 0;
-  p.neighbour_radius = max_diag / 2;
-  return StarDatabase::build(loadCatalog(cat_path), p);
+  CameraDatabaseRecipe r;
+  r.diagonal_fov_rad = 2.0 * camera.halfDiagonalFov();
+  r.pixel_scale_rad = camera.pixelScale();
+  r.mag_limit = src.mag_limit;
+  r.epoch_jyear = src.epoch_jyear > 0 ? src.epoch_jyear : data_epoch_jyear;
+  r.aberration = src.aberration;
+  return StarDatabase::build(loadCatalog(cat_path), databaseParams(r));
 }
 
 }  // namespace st
