@@ -35,6 +35,15 @@ std::function<std::vector<std::string>(const IniReader&, const std::string&)> se
   };
 }
 
+decltype(SchemaPrinter::print) perSection(
+    std::function<std::string(const IniReader& r, const std::string& section)> print_one) {
+  return [print_one](const IniReader& r, const std::vector<std::string>& sections) {
+    std::string out;
+    for (const auto& s : sections) out += (out.empty() ? "" : "\n") + print_one(r, s);
+    return out;
+  };
+}
+
 std::string SchemaPrinters::print(const IniReader& r, const std::string& wanted) const {
   std::vector<std::string> all_sections;
   r.cfg.getAllSections(all_sections);
@@ -50,7 +59,7 @@ std::string SchemaPrinters::print(const IniReader& r, const std::string& wanted)
     if (secs.empty()) continue;
     if (!wanted.empty() && std::find(secs.begin(), secs.end(), wanted) == secs.end()) continue;
     claimed.insert(secs.begin(), secs.end());
-    std::string text = p.print(r, secs.front());
+    std::string text = p.print(r, secs);
     if (!wanted.empty()) text = onlySection(text, wanted);
     out += "# ---- " + p.name + " ----\n" + text + "\n";
   }

@@ -244,7 +244,7 @@ CameraModel CameraModel::loadIni(const IniReader& r, const std::string& section)
     throw InputError(r.whereKey(section, "resolution") + ": must be [width height]");
   const int w = static_cast<int>(k.resolution[0]), h = static_cast<int>(k.resolution[1]);
   const Distortion dist = distortionFromVector(k.dist, r.whereKey(section, "dist"));
-  if (r.has(section, "fov_deg")) {
+  if (k.fov_deg != 0) {  // 0 is the printed "not used"
     // Either form, never both: two sources of the focal length would silently disagree.
     for (const char* key : {"fx", "fy", "cx", "cy"})
       if (r.has(section, key))
