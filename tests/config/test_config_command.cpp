@@ -126,14 +126,18 @@ TEST(ConfigCommand, MontecarloRunFileTypo) {
   expectTypoMessage(out, path, "montecarlo_run", "sed", "seed");
 }
 
-/// The printed configuration without its first line (which names the file printed).
-std::string body(const std::string& out) { return out.substr(out.find('\n') + 1); }
+/// The printed configuration without its first line (which names the file printed) and
+/// without the notes on sections no schema printed (the print has no such sections).
+std::string body(const std::string& out) {
+  return std::regex_replace(out.substr(out.find('\n') + 1),
+                            std::regex("# \\[[^\\]]*\\]: no schema registered[^\n]*\n"), "");
+}
 
 TEST(ConfigCommand, EverySampleIniPrintsAConfigurationThatReadsBack) {
   const std::string dir = test::makeTempDir("cfg_samples");
   std::set<std::string> without_schema;
   int printed = 0;
-  for (const std::string& folder : {"/rawlogs", "/tests/data"}) {
+  for (const char* folder : {"/rawlogs", "/tests/data"}) {
     for (const auto& e : fs::recursive_directory_iterator(test::repoDir() + folder)) {
       if (e.path().extension() != ".ini") continue;
       SCOPED_TRACE(e.path().string());
