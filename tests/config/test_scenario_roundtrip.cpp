@@ -87,5 +87,23 @@ TEST(ScenarioConfig, FovAndExplicitCameraFormsAreExclusive) {
   }
 }
 
+TEST(ScenarioConfig, OneQuantityInTwoUnitsIsRefused) {
+  // aperture_diameter_mm is a read-only alias of aperture_diameter_m: both at once would be
+  // two answers, and the printed configuration keeps only the metre key.
+  const mrpt::config::CConfigFileMemory both(
+      "[sensor]\naperture_diameter_mm = 25\naperture_diameter_m = 0.03\n");
+  try {
+    SensorParams::fromConfig(IniReader{both, "s.ini"}, "sensor");
+    FAIL() << "both units must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.ini: [sensor] key 'aperture_diameter_mm'"),
+              std::string::npos)
+        << e.what();
+  }
+  const mrpt::config::CConfigFileMemory mm("[sensor]\naperture_diameter_mm = 25\n");
+  EXPECT_DOUBLE_EQ(SensorParams::fromConfig(IniReader{mm, "s.ini"}, "sensor").aperture_diameter_m,
+                   0.025);
+}
+
 }  // namespace
 }  // namespace st
