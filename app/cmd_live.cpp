@@ -31,7 +31,7 @@
 #include "app/live/live_navigator.hpp"
 #include "navigation/run_summary.hpp"
 #include "navigation/tracker_config.hpp"
-#include "sensors/mrpt/ini_reader.hpp"
+#include "config/ini_reader.hpp"
 #include "app/live/sensor_runner.hpp"
 #include "common/errors.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"

@@ -5,6 +5,7 @@ namespace st::app {
 
 void addCameraCommand(CLI::App& root, CommandRun& run);
 void addCatalogCommand(CLI::App& root, CommandRun& run);
+void addConfigCommand(CLI::App& root, CommandRun& run);
 void addLiveCommand(CLI::App& root, CommandRun& run);
 void addMontecarloCommand(CLI::App& root, CommandRun& run);
 void addReplayCommand(CLI::App& root, CommandRun& run);
@@ -14,6 +15,7 @@ void addSolveCommand(CLI::App& root, CommandRun& run);
 void addAllCommands(CLI::App& root, CommandRun& run) {
   addCameraCommand(root, run);
   addCatalogCommand(root, run);
+  addConfigCommand(root, run);
   addLiveCommand(root, run);
   addMontecarloCommand(root, run);
   addReplayCommand(root, run);

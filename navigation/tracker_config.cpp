@@ -8,7 +8,7 @@
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
-#include "sensors/mrpt/ini_reader.hpp"
+#include "config/ini_reader.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
 
 namespace st {

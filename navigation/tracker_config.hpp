@@ -7,7 +7,7 @@
 #include <string>
 
 #include "catalog/star_database.hpp"
-#include "sensors/mrpt/ini_reader.hpp"
+#include "config/ini_reader.hpp"
 #include "navigation/navigator.hpp"
 #include "sensors/camera/camera_model.hpp"
 

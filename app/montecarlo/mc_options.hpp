@@ -1,7 +1,8 @@
 /// @file mc_options.hpp
 /// Options of `startracker montecarlo`. The ones that change results are written to each
-/// run's `<experiment>_run.txt` (key = value) so that `montecarlo merge` can rebuild the
-/// report from shard files alone and refuse shards of different runs.
+/// run's `<experiment>_run.txt` (run_file.hpp: one strict [montecarlo_run] section) so that
+/// `montecarlo merge` can rebuild the report from shard files alone and refuse shards of
+/// different runs.
 #pragma once
 #include <cstdint>
 #include <map>

@@ -14,6 +14,7 @@
 
 #include "app/montecarlo/csv.hpp"
 #include "app/montecarlo/experiment.hpp"
+#include "app/montecarlo/run_file.hpp"
 #include "app/plot.hpp"
 #include "common/errors.hpp"
 #include "common/progress.hpp"
@@ -31,33 +32,6 @@ void ensureDir(const std::string& dir) {
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
     throw InputError("--out '" + dir + "': cannot create directory (" + ec.message() + ")");
-}
-
-void writeRunFile(const McOptions& o, std::size_t rows, const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw InputError("cannot write '" + path + "'");
-  f << "# startracker montecarlo run description (read by `startracker montecarlo merge`)\n";
-  for (const auto& [k, v] : o.toKeyValues()) f << k << " = " << v << "\n";
-  f << "shard = " << o.shard_index << "/" << o.shard_count << "\n";
-  f << "rows = " << rows << "\n";
-  if (!f) throw InputError("error writing '" + path + "'");
-}
-
-std::map<std::string, std::string> readRunFile(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError("cannot read '" + path + "'");
-  std::map<std::string, std::string> kv;
-  std::string line;
-  int n = 0;
-  while (std::getline(f, line)) {
-    ++n;
-    if (line.empty() || line[0] == '#') continue;
-    const auto eq = line.find(" = ");
-    if (eq == std::string::npos)
-      throw InputError(path + ":" + std::to_string(n) + ": expected 'key = value'");
-    kv[line.substr(0, eq)] = line.substr(eq + 3);
-  }
-  return kv;
 }
 
 /// Writes tables, Markdown and plots; returns the exit code.
@@ -208,10 +182,10 @@ int mergeRuns(const std::vector<std::string>& dirs, const McOptions& run_opts) {
       if (!seen.insert(canonical_path).second) continue;
       Piece p;
       p.run_path = entry.path().string();
-      p.kv = readRunFile(p.run_path);
-      if (!p.kv.count("shard") || !p.kv.count("experiment"))
-        throw InputError(p.run_path + ": not a montecarlo run file (no shard/experiment)");
-      parseShard(p.kv["shard"], p.index, p.count);
+      const McRunFile run = readRunFile(p.run_path);
+      p.kv = runFileKeyValues(run);
+      p.index = run.options.shard_index;
+      p.count = run.options.shard_count;
       p.csv_path = (entry.path().parent_path() /
                     (fname.substr(0, pos) + "_trials" + fname.substr(pos + 4, fname.size() - pos - 8) +
                      ".csv"))

@@ -12,7 +12,6 @@
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
-#include "common/number_list.hpp"
 
 namespace st {
 
@@ -215,32 +214,68 @@ void CameraModel::saveYaml(const std::string& path) const {
 namespace {
 }  // namespace
 
+const SectionSchema<CameraIniKeys>& cameraIniSchema() {
+  using K = CameraIniKeys;
+  static const auto schema =
+      SectionSchema<K>()
+          .add("resolution", &K::resolution, "[width height] image size in pixels")
+          .required()
+          .add("fov_deg", &K::fov_deg,
+               "[deg] horizontal field of view; replaces fx fy cx cy (0 = use them)")
+          .add("fx", &K::fx, "[px] focal length along x (columns)")
+          .add("fy", &K::fy, "[px] focal length along y (rows)")
+          .add("cx", &K::cx, "[px] principal point column")
+          .add("cy", &K::cy, "[px] principal point row")
+          .add("dist", &K::dist, "[k1 k2 p1 p2 k3] OpenCV radial-tangential distortion")
+          .add("focal_length", &K::focal_length, "[m] physical focal length (MRPT TCamera; not used)");
+  return schema;
+}
+
 CameraModel CameraModel::loadIni(const mrpt::config::CConfigFileBase& cfg,
                                  const std::string& section, const std::string& source_name) {
-  const std::string where = source_name + " [" + section + "]";
-  auto need = [&](const std::string& key) {
-    if (!cfg.keyExists(section, key)) throw InputError(where + ": missing key '" + key + "'");
-    return cfg.read_string(section, key, "");
-  };
-  auto number = [&](const std::string& key) {
-    const auto v = parseNumberList(need(key), where + " key '" + key + "'");
-    if (v.size() != 1) throw InputError(where + ": key '" + key + "' must be one number");
-    return v[0];
-  };
-  const auto res = parseNumberList(need("resolution"), where + " key 'resolution'");
-  if (res.size() != 2) throw InputError(where + ": key 'resolution' must be [width height]");
+  return loadIni(IniReader{cfg, source_name}, section);
+}
+
+CameraModel CameraModel::loadIni(const IniReader& r, const std::string& section) {
+  CameraIniKeys k;
+  cameraIniSchema().read(r, section, k);
+  const std::string where = r.where(section);
+  if (k.resolution.size() != 2)
+    throw InputError(r.whereKey(section, "resolution") + ": must be [width height]");
+  const int w = static_cast<int>(k.resolution[0]), h = static_cast<int>(k.resolution[1]);
+  const Distortion dist = distortionFromVector(k.dist, r.whereKey(section, "dist"));
+  if (k.fov_deg != 0) {  // 0 is the printed "not used"
+    // Either form, never both: two sources of the focal length would silently disagree.
+    for (const char* key : {"fx", "fy", "cx", "cy"})
+      if (r.has(section, key))
+        throw InputError(r.whereKey(section, key) + ": give either fov_deg or fx fy cx cy");
+    const CameraModel cam = fromFov(w, h, deg2rad(k.fov_deg));
+    return CameraModel(w, h, cam.fx(), cam.fy(), cam.cx(), cam.cy(), dist);
+  }
+  for (const char* key : {"fx", "fy", "cx", "cy"})
+    if (!r.has(section, key))
+      throw InputError(r.whereKey(section, key) + ": missing key (or give fov_deg)");
   CameraModel cam;
-  cam.width_ = static_cast<int>(res[0]);
-  cam.height_ = static_cast<int>(res[1]);
-  cam.fx_ = number("fx");
-  cam.fy_ = number("fy");
-  cam.cx_ = number("cx");
-  cam.cy_ = number("cy");
-  if (cfg.keyExists(section, "dist"))
-    cam.dist_ = distortionFromVector(parseNumberList(cfg.read_string(section, "dist", ""), where),
-                                     where + " key 'dist'");
+  cam.width_ = w;
+  cam.height_ = h;
+  cam.fx_ = k.fx;
+  cam.fy_ = k.fy;
+  cam.cx_ = k.cx;
+  cam.cy_ = k.cy;
+  cam.dist_ = dist;
   cam.validate(where);
   return cam;
+}
+
+CameraIniKeys CameraModel::iniKeys() const {
+  CameraIniKeys k;
+  k.resolution = {static_cast<double>(width_), static_cast<double>(height_)};
+  k.fx = fx_;
+  k.fy = fy_;
+  k.cx = cx_;
+  k.cy = cy_;
+  k.dist = {dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3};
+  return k;
 }
 
 CameraModel CameraModel::loadIniFile(const std::string& path, const std::string& section) {

@@ -8,8 +8,10 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/attitude.hpp"
+#include "config/schema.hpp"
 
 namespace mrpt::config {
 class CConfigFileBase;
@@ -19,6 +21,18 @@ class TCamera;
 }
 
 namespace st {
+
+/// The keys of a camera .ini section: MRPT TCamera's (resolution, fx, fy, cx, cy, dist,
+/// focal_length) plus the shorthand fov_deg, which replaces fx fy cx cy (square pixels,
+/// principal point at the centre). Schema: cameraIniSchema().
+struct CameraIniKeys {
+  std::vector<double> resolution;  ///< [w h], required
+  double fov_deg = 0;              ///< 0 = not used (fx fy cx cy given)
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  std::vector<double> dist = {0, 0, 0, 0, 0};
+  double focal_length = 0;  ///< [m] informational (TCamera writes it); not used
+};
+const SectionSchema<CameraIniKeys>& cameraIniSchema();
 
 /// OpenCV distortion coefficients in OpenCV's order.
 struct Distortion {
@@ -44,13 +58,17 @@ class CameraModel {
   void saveYaml(const std::string& path) const;
 
   /// An MRPT .ini section in mrpt::img::TCamera style: `resolution = [w h]`, `cx`, `cy`,
-  /// `fx`, `fy`, `dist = [k1 k2 p1 p2 k3]`. Throws InputError naming section and key.
+  /// `fx`, `fy`, `dist = [k1 k2 p1 p2 k3]`, or `resolution` with `fov_deg` (CameraIniKeys).
+  /// Strict: throws InputError naming the source, section and key (unknown keys too).
   static CameraModel loadIni(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                              const std::string& source_name = "ini");
+  static CameraModel loadIni(const IniReader& r, const std::string& section);
   static CameraModel loadIniFile(const std::string& path, const std::string& section);
 
   /// MRPT's camera parameters (CObservationImage::cameraParams carries them in rawlogs).
   static CameraModel fromTCamera(const mrpt::img::TCamera& cam);
+  /// The .ini keys of this camera in the explicit form (fx fy cx cy; loadIni gives it back).
+  CameraIniKeys iniKeys() const;
   mrpt::img::TCamera toTCamera() const;
 
   int width() const { return width_; }

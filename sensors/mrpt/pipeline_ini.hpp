@@ -5,7 +5,7 @@
 #include <set>
 #include <string>
 
-#include "sensors/mrpt/ini_reader.hpp"
+#include "config/ini_reader.hpp"
 #include "sensors/mrpt/star_tracker_pipeline.hpp"
 
 namespace st {

@@ -14,7 +14,7 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/mrpt_convert.hpp"
-#include "sensors/mrpt/ini_reader.hpp"
+#include "config/ini_reader.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/simulated_sensors.hpp"

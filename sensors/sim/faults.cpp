@@ -1,60 +1,52 @@
 #include "sensors/sim/faults.hpp"
 
-#include <mrpt/config/CConfigFileBase.h>
-
 #include <cmath>
 #include <sstream>
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
-#include "common/number_list.hpp"
 #include "sensors/sim/motion.hpp"
 #include "sensors/sim/random_streams.hpp"
 
 
 namespace st {
 
-namespace {
-std::vector<double> readNumbers(const mrpt::config::CConfigFileBase& cfg,
-                                const std::string& section, const std::string& key) {
-  return parseNumberList(cfg.read_string(section, key, ""),
-                         "[" + section + "] key '" + key + "'");
+const SectionSchema<FaultParams>& faultParamsSchema() {
+  using F = FaultParams;
+  static const auto schema =
+      SectionSchema<F>()
+          .add("false_stars", &F::false_stars, "number of planet-like sources not in the catalog")
+          .add("false_star_mag_min", &F::false_star_mag_min, "[mag] brightest false star")
+          .add("false_star_mag_max", &F::false_star_mag_max, "[mag] faintest false star")
+          .add("spikes_per_frame", &F::spikes_per_frame, "Poisson mean of cosmic-ray hits per frame")
+          .add("spike_e_min", &F::spike_e_min, "[e-] smallest charge of a hit")
+          .add("spike_e_max", &F::spike_e_max, "[e-] largest charge of a hit")
+          .add("spike_length_max_px", &F::spike_length_max_px, "[px] longest hit track")
+          .add("extended_objects", &F::extended_objects, "number of bright extended objects")
+          .add("extended_mag", &F::extended_mag, "[mag] brightness of an extended object")
+          .add("extended_sigma_px", &F::extended_sigma_px, "[px] size of an extended object")
+          .add("missing_star_fraction", &F::missing_star_fraction,
+               "fraction of catalog stars not rendered, 0..1")
+          .add("blinding_e_px_s", &F::blinding_e_px_s, "[e-/px/s] peak stray-light rate; 0 = off")
+          .add("blinding_center_px", &F::blinding_center_px, "[px] x y centre of the glow")
+          .add("blinding_radius_px", &F::blinding_radius_px, "[px] radius of the glow")
+          .add("blinding_start_s", &F::blinding_start_s, "[s] glow starts")
+          .add("blinding_end_s", &F::blinding_end_s, "[s] glow ends")
+          .add("drop_frame_probability", &F::drop_frame_probability,
+               "probability that a frame is lost, 0..1")
+          .add("dropout_s", &F::dropouts, "[s] t0 t1 [t0 t1 ...]: frames in [t0, t1) are lost");
+  return schema;
 }
-}  // namespace
 
 FaultParams FaultParams::fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                     const std::string& section) {
+  return fromConfig(IniReader{cfg, ""}, section);
+}
+
+FaultParams FaultParams::fromConfig(const IniReader& r, const std::string& section) {
   FaultParams f;
-  auto rd = [&](const char* key, double& v) { v = cfg.read_double(section, key, v); };
-  f.false_stars = cfg.read_int(section, "false_stars", f.false_stars);
-  rd("false_star_mag_min", f.false_star_mag_min);
-  rd("false_star_mag_max", f.false_star_mag_max);
-  rd("spikes_per_frame", f.spikes_per_frame);
-  rd("spike_e_min", f.spike_e_min);
-  rd("spike_e_max", f.spike_e_max);
-  rd("spike_length_max_px", f.spike_length_max_px);
-  f.extended_objects = cfg.read_int(section, "extended_objects", f.extended_objects);
-  rd("extended_mag", f.extended_mag);
-  rd("extended_sigma_px", f.extended_sigma_px);
-  rd("missing_star_fraction", f.missing_star_fraction);
-  rd("blinding_e_px_s", f.blinding_e_px_s);
-  if (cfg.keyExists(section, "blinding_center_px")) {
-    const auto v = readNumbers(cfg, section, "blinding_center_px");
-    if (v.size() != 2)
-      throw InputError("[" + section + "] key 'blinding_center_px' must be two numbers: x y");
-    f.blinding_center_px = Vec2(v[0], v[1]);
-  }
-  rd("blinding_radius_px", f.blinding_radius_px);
-  rd("blinding_start_s", f.blinding_start_s);
-  rd("blinding_end_s", f.blinding_end_s);
-  rd("drop_frame_probability", f.drop_frame_probability);
-  if (cfg.keyExists(section, "dropout_s")) {
-    const auto v = readNumbers(cfg, section, "dropout_s");
-    if (v.size() % 2 != 0)
-      throw InputError("[" + section + "] key 'dropout_s' must hold pairs: t0 t1 [t0 t1 ...]");
-    for (std::size_t i = 0; i < v.size(); i += 2) f.dropouts.emplace_back(v[i], v[i + 1]);
-  }
-  f.validate("[" + section + "]");
+  faultParamsSchema().read(r, section, f);
+  f.validate(r.where(section));
   return f;
 }
 

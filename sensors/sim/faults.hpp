@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "common/attitude.hpp"
+#include "config/schema.hpp"
 #include "sensors/sim/star_renderer.hpp"
 
 namespace mrpt::config {
@@ -60,8 +61,13 @@ struct FaultParams {
 
   static FaultParams fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section);
+  /// Strict read through faultParamsSchema() (InputError names file, section and key).
+  static FaultParams fromConfig(const IniReader& r, const std::string& section);
   void validate(const std::string& where) const;
 };
+
+/// The keys of the [faults] section, bound to FaultParams.
+const SectionSchema<FaultParams>& faultParamsSchema();
 
 /// Places the false stars and extended objects of a run: each at a random pixel of the
 /// frame at a random time of the run, turned into an inertial direction, so that they are

@@ -1,7 +1,5 @@
 #include "sensors/sim/gyro_model.hpp"
 
-#include <mrpt/config/CConfigFileBase.h>
-
 #include <cmath>
 #include <cstdlib>
 
@@ -15,22 +13,6 @@ namespace {
 constexpr double kSecondsPerHour = 3600.0;
 constexpr double kRootSecondsPerHour = 60.0;  // sqrt(3600 s)
 
-double readKey(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
-               const std::string& key, bool required) {
-  const std::string where = "gyro section [" + section + "] key '" + key + "'";
-  if (!cfg.keyExists(section, key)) {
-    if (required) throw InputError(where + " is required");
-    return 0.0;
-  }
-  const std::string text = cfg.read_string(section, key, "");
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  const double v = std::strtod(begin, &end);
-  while (end && (*end == ' ' || *end == '\t')) ++end;
-  if (end == begin || *end != '\0' || !std::isfinite(v))
-    throw InputError(where + " = '" + text + "': not a number");
-  return v;
-}
 }  // namespace
 
 double GyroParams::sigmaV() const { return arw_deg_rt_h * kRadPerDeg / kRootSecondsPerHour; }
@@ -49,17 +31,30 @@ std::string GyroParams::validate() const {
   return {};
 }
 
+const SectionSchema<GyroParams>& gyroParamsSchema() {
+  using G = GyroParams;
+  static const auto schema =
+      SectionSchema<G>()
+          .add("rate_hz", &G::rate_hz, "[Hz] sample rate, > 0")
+          .required()
+          .add("arw_deg_rt_h", &G::arw_deg_rt_h, "[deg/sqrt(h)] angle random walk, >= 0")
+          .add("rrw_deg_h_rt_h", &G::rrw_deg_h_rt_h, "[deg/h/sqrt(h)] rate random walk, >= 0")
+          .add("bias_deg_h", &G::bias_deg_h, "[deg/h] constant bias on every axis")
+          .add("scale_factor_ppm", &G::scale_factor_ppm, "[ppm] scale factor error")
+          .add("quantum_rad_s", &G::quantum_rad_s, "[rad/s] output quantum; 0 = none");
+  return schema;
+}
+
 GyroParams GyroParams::fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                   const std::string& section) {
+  return fromConfig(IniReader{cfg, "gyro"}, section);
+}
+
+GyroParams GyroParams::fromConfig(const IniReader& r, const std::string& section) {
   GyroParams p;
-  p.rate_hz = readKey(cfg, section, "rate_hz", true);
-  p.arw_deg_rt_h = readKey(cfg, section, "arw_deg_rt_h", false);
-  p.rrw_deg_h_rt_h = readKey(cfg, section, "rrw_deg_h_rt_h", false);
-  p.bias_deg_h = readKey(cfg, section, "bias_deg_h", false);
-  p.scale_factor_ppm = readKey(cfg, section, "scale_factor_ppm", false);
-  p.quantum_rad_s = readKey(cfg, section, "quantum_rad_s", false);
+  gyroParamsSchema().read(r, section, p);
   const std::string err = p.validate();
-  if (!err.empty()) throw InputError("gyro section [" + section + "]: " + err);
+  if (!err.empty()) throw InputError(r.where(section) + ": " + err);
   return p;
 }
 

@@ -32,6 +32,7 @@
 #include <string>
 
 #include "common/attitude.hpp"
+#include "config/schema.hpp"
 
 namespace mrpt::config {
 class CConfigFileBase;
@@ -42,13 +43,15 @@ namespace st {
 class MotionProfile;
 
 struct GyroParams {
-  double rate_hz;
-  double arw_deg_rt_h;
-  double rrw_deg_h_rt_h;
-  double bias_deg_h;
+  double rate_hz = 0;  ///< required in .ini files (0 is invalid)
+  double arw_deg_rt_h = 0;
+  double rrw_deg_h_rt_h = 0;
+  double bias_deg_h = 0;
   double scale_factor_ppm = 0;
   double quantum_rad_s = 0;
   static GyroParams fromConfig(const mrpt::config::CConfigFileBase&, const std::string& section);
+  /// Strict read through gyroParamsSchema() (InputError names file, section and key).
+  static GyroParams fromConfig(const IniReader& r, const std::string& section);
 
   double sigmaV() const;        ///< ARW [rad/sqrt(s)]
   double sigmaU() const;        ///< RRW [rad/s^1.5]
@@ -56,6 +59,9 @@ struct GyroParams {
   /// Empty when valid, otherwise the reason (names the field).
   std::string validate() const;
 };
+
+/// The gyro keys above, bound to GyroParams.
+const SectionSchema<GyroParams>& gyroParamsSchema();
 
 class GyroSimulator {
  public:

@@ -36,12 +36,31 @@
 #include <vector>
 
 #include "common/attitude.hpp"
+#include "config/schema.hpp"
 
 namespace mrpt::config {
 class CConfigFileBase;
 }
 
 namespace st {
+
+/// The keys of a motion section (file comment), in .ini units; the keys a `type` accepts
+/// are those of motionSchema(type).
+struct MotionKeys {
+  std::string type;
+  double ra_deg = 0, dec_deg = 0, roll_deg = 0;
+  Vec3 rate_deg_s = Vec3::Zero();       ///< slew, tumble
+  Vec3 axis = Vec3(0, 1, 0);            ///< slew_accel
+  double max_rate_deg_s = 0, accel_deg_s2 = 0, coast_s = 10, start_s = 0;
+  Vec3 base_rate_deg_s = Vec3::Zero();  ///< jitter
+  Vec3 amplitude_deg_s = Vec3::Zero(), frequency_hz = Vec3::Zero(), phase_deg = Vec3::Zero();
+  double step_s = 1e-3;                 ///< jitter, tumble
+  Vec3 inertia = Vec3(1, 2, 3);         ///< tumble
+};
+/// The schema of a motion section of type `type` (InputError for an unknown type).
+const SectionSchema<MotionKeys>& motionSchema(const std::string& type);
+/// Strict read of a motion section (its `type` first, then that type's keys).
+MotionKeys readMotionKeys(const IniReader& r, const std::string& section);
 
 class MotionProfile {  // exact truth: attitude and body rate at any time t [s] from the start
  public:
@@ -53,6 +72,8 @@ class MotionProfile {  // exact truth: attitude and body rate at any time t [s] 
   /// Builds the profile of `section` (keys above). Throws InputError naming section/key/value.
   static std::unique_ptr<MotionProfile> fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                                    const std::string& section);
+  /// Builds the profile from keys read by readMotionKeys; `where` names the section.
+  static std::unique_ptr<MotionProfile> fromKeys(const MotionKeys& k, const std::string& where);
   /// The accepted `type` names, from the one registry table.
   static std::vector<std::string> types();
 };

@@ -12,32 +12,9 @@
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
-#include "common/number_list.hpp"
 #include "sensors/sim/random_streams.hpp"
 
 namespace st {
-
-namespace {
-
-CameraModel loadScenarioCamera(const mrpt::config::CConfigFileBase& cfg, const std::string& sec,
-                               const std::string& source) {
-  const std::string where = source + " [" + sec + "]";
-  if (!cfg.sectionExists(sec)) throw InputError(where + ": missing section");
-  if (!cfg.keyExists(sec, "fov_deg")) return CameraModel::loadIni(cfg, sec, source);
-  const auto res = parseNumberList(cfg.read_string(sec, "resolution", ""), where + " key 'resolution'");
-  if (res.size() != 2) throw InputError(where + ": key 'resolution' must be [width height]");
-  const double fov_deg = cfg.read_double(sec, "fov_deg", 0);
-  CameraModel cam = CameraModel::fromFov(static_cast<int>(res[0]), static_cast<int>(res[1]),
-                                         deg2rad(fov_deg));
-  if (!cfg.keyExists(sec, "dist")) return cam;
-  const auto d = parseNumberList(cfg.read_string(sec, "dist", ""), where + " key 'dist'");
-  if (d.size() < 4 || d.size() > 5)
-    throw InputError(where + ": key 'dist' must be k1 k2 p1 p2 [k3]");
-  return CameraModel(cam.width(), cam.height(), cam.fx(), cam.fy(), cam.cx(), cam.cy(),
-                     Distortion{d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0});
-}
-
-}  // namespace
 
 double parseUtc(const std::string& text, const std::string& where) {
   int Y = 0, M = 0, D = 0, h = 0, m = 0;
@@ -63,60 +40,6 @@ Scenario Scenario::load(const std::string& path) {
   mrpt::config::CConfigFile cfg(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return fromConfig(cfg, path, dir.empty() ? "." : dir);
-}
-
-Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const std::string& source,
-                              const std::string& base_dir) {
-  Scenario sc;
-  sc.source = source;
-  const std::string S = "scenario";
-  const std::string where = source + " [" + S + "]";
-  if (!cfg.sectionExists(S)) throw InputError(where + ": missing section");
-  sc.duration_s = cfg.read_double(S, "duration_s", sc.duration_s);
-  sc.frame_rate_hz = cfg.read_double(S, "frame_rate_hz", sc.frame_rate_hz);
-  if (!(sc.duration_s > 0)) throw InputError(where + ": key 'duration_s' must be > 0");
-  if (!(sc.frame_rate_hz > 0)) throw InputError(where + ": key 'frame_rate_hz' must be > 0");
-  if (cfg.keyExists(S, "start_time"))
-    sc.start_unix_s = parseUtc(cfg.read_string(S, "start_time", ""), where + " key 'start_time'");
-  else
-    sc.start_unix_s = unixSecondsFromJulianYear(cfg.read_double(S, "start_jyear", 2025.0));
-  sc.seed = cfg.read_uint64_t(S, "seed", sc.seed);
-  auto path_key = [&](const char* key) {
-    std::string p = cfg.read_string(S, key, "");
-    if (!p.empty() && std::filesystem::path(p).is_relative())
-      p = (std::filesystem::path(base_dir) / p).string();
-    return p;
-  };
-  sc.database_path = path_key("database");
-  sc.catalog_path = path_key("catalog");
-  sc.mag_limit = cfg.read_double(S, "mag_limit", sc.mag_limit);
-  sc.aberration = cfg.read_bool(S, "aberration", sc.aberration);
-
-  const std::string cam_sec = cfg.read_string(S, "camera_section", "camera");
-  const std::string sen_sec = cfg.read_string(S, "sensor_section", "sensor");
-  const std::string mot_sec = cfg.read_string(S, "motion_section", "motion");
-  const std::string gyr_sec = cfg.read_string(S, "gyro_section", "gyro");
-  const std::string flt_sec = cfg.read_string(S, "faults_section", "faults");
-  sc.camera = loadScenarioCamera(cfg, cam_sec, source);
-  try {
-    sc.sensor = SensorParams::fromConfig(cfg, sen_sec);
-    if (!cfg.sectionExists(mot_sec)) throw InputError("[" + mot_sec + "]: missing section");
-    sc.motion = MotionProfile::fromConfig(cfg, mot_sec);
-    if (cfg.sectionExists(gyr_sec)) {
-      sc.gyro = GyroParams::fromConfig(cfg, gyr_sec);
-      if (cfg.keyExists(gyr_sec, "initial_bias_deg_h")) {
-        const auto b = parseNumberList(cfg.read_string(gyr_sec, "initial_bias_deg_h", ""),
-                                  "[" + gyr_sec + "] key 'initial_bias_deg_h'");
-        if (b.size() != 3)
-          throw InputError("[" + gyr_sec + "] key 'initial_bias_deg_h' must be three numbers");
-        sc.gyro_initial_bias_rad_s = Vec3(b[0], b[1], b[2]) * (kRadPerDeg / 3600.0);
-      }
-    }
-    sc.faults = FaultParams::fromConfig(cfg, flt_sec);
-  } catch (const InputError& e) {
-    throw InputError(source + " " + e.what());
-  }
-  return sc;
 }
 
 int Scenario::frameCount() const {

@@ -18,14 +18,16 @@
 ///     aberration = true        apparent places (annual aberration), in-memory build
 ///     camera_section = camera, sensor_section = sensor, motion_section = motion,
 ///     gyro_section = gyro (absent section = no gyro), faults_section = faults
-///   [camera]   either CameraModel::loadIni keys (resolution, fx, fy, cx, cy, dist) or
-///              resolution = [w h] with fov_deg (horizontal) and optional dist
+///   [camera]   CameraModel::loadIni keys: resolution = [w h] with either fx, fy, cx, cy
+///              or fov_deg (horizontal); optional dist
 ///   [sensor]   SensorParams keys (sensor_params.hpp)
 ///   [motion]   MotionProfile keys (motion.hpp)
 ///   [gyro]     GyroParams keys (gyro_model.hpp) plus initial_bias_deg_h = x y z (turn-on
 ///              bias, default 0 0 0)
 ///   [faults]   FaultParams keys (faults.hpp)
 /// Relative paths (database, catalog) are relative to the scenario file's folder.
+/// Every section is read strictly (config/schema.hpp): an unknown key is an error naming
+/// the file, section and key, with the nearest valid key.
 #pragma once
 #include <mrpt/core/Clock.h>
 
@@ -51,6 +53,39 @@ class CConfigFileBase;
 namespace st {
 
 class StarDatabase;
+
+/// The keys of the [scenario] section, as written in the file.
+struct ScenarioKeys {
+  double duration_s = 10, frame_rate_hz = 10;
+  std::string start_time;  ///< empty = use start_jyear
+  double start_jyear = 2025.0;
+  uint64_t seed = 1;
+  std::string database, catalog;  ///< as written (relative to the file's folder)
+  double mag_limit = 7.0;
+  bool aberration = true;
+  std::string camera_section = "camera", sensor_section = "sensor", motion_section = "motion",
+              gyro_section = "gyro", faults_section = "faults";
+};
+
+/// The [gyro] section: GyroParams plus the run's turn-on bias.
+struct ScenarioGyroKeys {
+  GyroParams params;
+  Vec3 initial_bias_deg_h = Vec3::Zero();
+};
+
+/// A whole scenario file as read (strictly) from its sections: what `startracker config`
+/// prints. The camera is kept resolved (fov_deg turned into fx fy cx cy).
+struct ScenarioIni {
+  ScenarioKeys main;
+  CameraModel camera;
+  SensorParams sensor;
+  MotionKeys motion;
+  std::optional<ScenarioGyroKeys> gyro;
+  FaultParams faults;
+};
+ScenarioIni readScenarioIni(const IniReader& r);
+/// The effective scenario in ini form, every default filled in; reads back to `sc`.
+std::string printScenarioIni(const ScenarioIni& sc);
 
 struct Scenario {
   std::string source = "scenario";  ///< file name, for messages

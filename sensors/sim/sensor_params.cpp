@@ -1,7 +1,5 @@
 #include "sensors/sim/sensor_params.hpp"
 
-#include <mrpt/config/CConfigFileBase.h>
-
 #include <cmath>
 
 #include "common/conventions.hpp"
@@ -53,29 +51,44 @@ void SensorParams::validate(const std::string& where) const {
   if (!(hot_pixel_e_px_s >= 0)) bad("hot_pixel_e_px_s", hot_pixel_e_px_s, "must be >= 0");
 }
 
+const SectionSchema<SensorParams>& sensorParamsSchema() {
+  using P = SensorParams;
+  static const auto schema =
+      SectionSchema<P>()
+          .add("aperture_diameter_m", &P::aperture_diameter_m, "[m] entrance pupil diameter D")
+          .alias("aperture_diameter_mm", &P::aperture_diameter_m, 1e-3,
+                 "[mm] aperture_diameter_m in millimetres")
+          .add("transmission", &P::transmission, "optical transmission of the lens, (0, 1]")
+          .add("qe", &P::qe, "quantum efficiency of the detector, (0, 1]")
+          .add("exposure_s", &P::exposure_s, "[s] integration time")
+          .add("v0_photon_flux", &P::v0_photon_flux, "[photons/s/m^2] flux of a V = 0 star")
+          .add("psf_sigma_px", &P::psf_sigma_px, "[px] sigma of the Gaussian PSF, >= 0.2")
+          .add("sky_e_px_s", &P::sky_e_px_s, "[e-/px/s] sky + stray light background rate")
+          .add("dark_current_e_px_s", &P::dark_current_e_px_s, "[e-/px/s] dark current")
+          .add("read_noise_e", &P::read_noise_e, "[e-] RMS read noise")
+          .add("full_well_e", &P::full_well_e, "[e-] full-well capacity")
+          .add("gain_e_per_adu", &P::gain_e_per_adu, "[e-/ADU] ADC gain; 0 = full_well / 2^bits")
+          .add("bit_depth", &P::bit_depth, "ADC bits, 8..16")
+          .add("bias_adu", &P::bias_adu, "[ADU] black level")
+          .add("hot_pixels", &P::hot_pixels, "number of hot pixels")
+          .add("hot_pixel_e_px_s", &P::hot_pixel_e_px_s, "[e-/px/s] dark current of a hot pixel")
+          .add("hot_pixel_seed", &P::hot_pixel_seed, "seed of the hot pixel positions");
+  return schema;
+}
+
 SensorParams SensorParams::fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                       const std::string& section) {
+  return fromConfig(IniReader{cfg, ""}, section);
+}
+
+SensorParams SensorParams::fromConfig(const IniReader& r, const std::string& section) {
   SensorParams p;
-  auto rd = [&](const char* key, double& v) { v = cfg.read_double(section, key, v); };
-  if (cfg.keyExists(section, "aperture_diameter_mm"))
-    p.aperture_diameter_m = 1e-3 * cfg.read_double(section, "aperture_diameter_mm", 0);
-  rd("aperture_diameter_m", p.aperture_diameter_m);
-  rd("transmission", p.transmission);
-  rd("qe", p.qe);
-  rd("exposure_s", p.exposure_s);
-  rd("v0_photon_flux", p.v0_photon_flux);
-  rd("psf_sigma_px", p.psf_sigma_px);
-  rd("sky_e_px_s", p.sky_e_px_s);
-  rd("dark_current_e_px_s", p.dark_current_e_px_s);
-  rd("read_noise_e", p.read_noise_e);
-  rd("full_well_e", p.full_well_e);
-  rd("gain_e_per_adu", p.gain_e_per_adu);
-  rd("bias_adu", p.bias_adu);
-  rd("hot_pixel_e_px_s", p.hot_pixel_e_px_s);
-  p.bit_depth = cfg.read_int(section, "bit_depth", p.bit_depth);
-  p.hot_pixels = cfg.read_int(section, "hot_pixels", p.hot_pixels);
-  p.hot_pixel_seed = cfg.read_uint64_t(section, "hot_pixel_seed", p.hot_pixel_seed);
-  p.validate("[" + section + "]");
+  sensorParamsSchema().read(r, section, p);
+  // Both units at once would be two answers to one question.
+  if (r.has(section, "aperture_diameter_mm") && r.has(section, "aperture_diameter_m"))
+    throw InputError(r.whereKey(section, "aperture_diameter_mm") +
+                     ": give either aperture_diameter_m or aperture_diameter_mm");
+  p.validate(r.where(section));
   return p;
 }
 

@@ -20,6 +20,8 @@
 #include <cstdint>
 #include <string>
 
+#include "config/schema.hpp"
+
 namespace mrpt::config {
 class CConfigFileBase;
 }
@@ -70,6 +72,11 @@ struct SensorParams {
   /// aperture_diameter_mm is accepted in place of aperture_diameter_m.
   static SensorParams fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                  const std::string& section);
+  /// Strict read through sensorParamsSchema() (InputError names file, section and key).
+  static SensorParams fromConfig(const IniReader& r, const std::string& section);
 };
+
+/// The keys of the simulated camera's [sensor] section, bound to SensorParams.
+const SectionSchema<SensorParams>& sensorParamsSchema();
 
 }  // namespace st

@@ -22,10 +22,34 @@ namespace {
 std::mutex g_clock_mutex;
 std::optional<mrpt::Clock::time_point> g_start;
 
-std::string requireScenarioFile(const mrpt::config::CConfigFileBase& cfg,
-                                const std::string& section) {
-  const std::string f = cfg.read_string(section, "scenario_file", "");
-  if (f.empty()) throw InputError("[" + section + "]: missing key 'scenario_file'");
+constexpr const char* kCameraDriver = "CSimulatedStarCamera";
+constexpr const char* kGyroDriver = "CSimulatedGyro";
+
+SimulatedSensorKeys defaultKeys(bool camera) {
+  SimulatedSensorKeys k;
+  k.driver = camera ? kCameraDriver : kGyroDriver;
+  k.sensorLabel = camera ? kCameraLabel : kGyroLabel;
+  return k;
+}
+
+/// Strict read when the section is ours: its driver names `self` or is absent (a sensor
+/// built in code). Another driver owns the section's keys and checks them itself.
+SimulatedSensorKeys readKeys(const IniReader& r, const std::string& section, bool camera) {
+  SimulatedSensorKeys k = defaultKeys(camera);
+  const std::string driver = r.str(section, "driver", k.driver);
+  if (driver == k.driver) {
+    simulatedSensorSchema(camera).read(r, section, k);
+  } else {
+    k.scenario_file = r.str(section, "scenario_file", "");
+    k.seed = r.str(section, "seed", "");
+    if (camera) k.truth_label = r.str(section, "truth_label", k.truth_label);
+  }
+  if (k.scenario_file.empty()) throw InputError(r.whereKey(section, "scenario_file") + ": missing key");
+  if (!k.seed.empty()) r.uint64(section, "seed", 0);  // a bad seed fails here, naming the key
+  return k;
+}
+
+std::string resolveScenarioFile(const mrpt::config::CConfigFileBase& cfg, const std::string& f) {
   // A relative path that is not found from the working directory is taken relative to the
   // folder of the .ini file holding the section (rawlog-grabber runs from anywhere).
   namespace fs = std::filesystem;
@@ -37,10 +61,10 @@ std::string requireScenarioFile(const mrpt::config::CConfigFileBase& cfg,
   return f;
 }
 
-std::optional<uint64_t> optionalSeed(const mrpt::config::CConfigFileBase& cfg,
-                                     const std::string& section) {
-  if (!cfg.keyExists(section, "seed")) return std::nullopt;
-  return cfg.read_uint64_t(section, "seed", 0);
+std::optional<uint64_t> optionalSeed(const IniReader& r, const std::string& section,
+                                     const SimulatedSensorKeys& k) {
+  if (k.seed.empty()) return std::nullopt;
+  return r.uint64(section, "seed", 0);
 }
 }  // namespace
 
@@ -60,6 +84,39 @@ void resetSimulatedSensorsClock() {
   g_start.reset();
 }
 
+const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera) {
+  using K = SimulatedSensorKeys;
+  auto make = [](bool cam) {
+    auto s = SectionSchema<K>()
+                 .choice("driver", &K::driver, {cam ? kCameraDriver : kGyroDriver}, "sensor class")
+                 .add("process_rate", &K::process_rate,
+                      "[Hz] doProcess rate; at least the frame (gyro) rate")
+                 .required()
+                 .add("max_queue_len", &K::max_queue_len, "observations queued at most (MRPT)")
+                 .add("grab_decimation", &K::grab_decimation, "keep 1 of N observations (MRPT)")
+                 .add("sensorLabel", &K::sensorLabel, "label of the observations")
+                 .add("scenario_file", &K::scenario_file,
+                      "scenario .ini played (relative: working dir, else this file's folder)")
+                 .required()
+                 .add("seed", &K::seed, "run seed; empty = the scenario's seed");
+    if (cam)
+      s.add("truth_label", &K::truth_label, "label of the truth emitted per frame; empty = none");
+    return s;
+  };
+  static const auto camera_schema = make(true), gyro_schema = make(false);
+  return camera ? camera_schema : gyro_schema;
+}
+
+bool isSimulatedSensorSection(const mrpt::config::CConfigFileBase& cfg, const std::string& section) {
+  const std::string d = cfg.read_string(section, "driver", "", false);
+  return d == kCameraDriver || d == kGyroDriver;
+}
+
+std::string printSimulatedSensorSection(const IniReader& r, const std::string& section) {
+  const bool camera = r.str(section, "driver", "") == kCameraDriver;
+  return simulatedSensorSchema(camera).print(section, readKeys(r, section, camera));
+}
+
 void registerSimulatedSensors() {
   CSimulatedStarCamera::doRegister();
   CSimulatedGyro::doRegister();
@@ -72,9 +129,11 @@ CSimulatedStarCamera::~CSimulatedStarCamera() = default;
 
 void CSimulatedStarCamera::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
                                                      const std::string& section) {
-  scenario_file_ = requireScenarioFile(cfg, section);
-  seed_ = optionalSeed(cfg, section);
-  truth_label_ = cfg.read_string(section, "truth_label", truth_label_);
+  const IniReader r{cfg, "", true};  // our message passes through CGenericSensor::loadConfig
+  const SimulatedSensorKeys k = readKeys(r, section, true);
+  scenario_file_ = resolveScenarioFile(cfg, k.scenario_file);
+  seed_ = optionalSeed(r, section, k);
+  truth_label_ = k.truth_label;
 }
 
 void CSimulatedStarCamera::setPathForExternalImages(const std::string& directory) {
@@ -133,8 +192,10 @@ CSimulatedGyro::~CSimulatedGyro() = default;
 
 void CSimulatedGyro::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string& section) {
-  scenario_file_ = requireScenarioFile(cfg, section);
-  seed_ = optionalSeed(cfg, section);
+  const IniReader r{cfg, "", true};  // our message passes through CGenericSensor::loadConfig
+  const SimulatedSensorKeys k = readKeys(r, section, false);
+  scenario_file_ = resolveScenarioFile(cfg, k.scenario_file);
+  seed_ = optionalSeed(r, section, k);
 }
 
 void CSimulatedGyro::initialize() {

@@ -16,6 +16,9 @@
 ///   truth_label = GROUND_TRUTH              (camera only: also emit the truth per frame
 ///                                            with this label; empty = no truth)
 /// process_rate must be at least the frame rate (camera) or gyro rate (gyro) to keep up.
+/// The section is read strictly (simulatedSensorSchema): an unknown key is an error with
+/// the nearest valid key, unless the section's driver is another class (CStarTrackerSensor
+/// hands its own section to an inner CSimulatedStarCamera and checks its keys itself).
 ///
 /// The factory knows them only after registerSimulatedSensors() (or doRegister()).
 #pragma once
@@ -26,7 +29,26 @@
 #include <optional>
 #include <string>
 
+#include "config/schema.hpp"
+
 namespace st {
+
+/// The keys of a simulated-sensor section (CGenericSensor's common keys + ours).
+struct SimulatedSensorKeys {
+  std::string driver;
+  double process_rate = 0;
+  int max_queue_len = 200, grab_decimation = 1;
+  std::string sensorLabel;
+  std::string scenario_file;
+  std::string seed;  ///< empty = the scenario's seed
+  std::string truth_label = "GROUND_TRUTH";  ///< camera only
+};
+/// The schema for CSimulatedStarCamera (`camera`) or CSimulatedGyro.
+const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera);
+/// Whether `section` configures one of the simulated sensors (its driver names it).
+bool isSimulatedSensorSection(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+/// Strict read of such a section; its effective configuration in ini form.
+std::string printSimulatedSensorSection(const IniReader& r, const std::string& section);
 
 class SkySimulator;
 class GyroStream;

@@ -1,0 +1,67 @@
+// The schemas `startracker config` recognises: one call each. A schema is tried in this
+// order; the first to claim a section prints it (a scenario's [camera] is the scenario's).
+#include "app/config_schemas.hpp"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include "app/montecarlo/run_file.hpp"
+#include "sensors/camera/camera_model.hpp"
+#include "sensors/sim/scenario.hpp"
+#include "sensors/sim/simulated_sensors.hpp"
+
+namespace st::app {
+
+namespace {
+
+std::vector<std::string> sectionsWhere(const IniReader& r, const std::string& wanted,
+                                       const std::function<bool(const std::string&)>& owns) {
+  std::vector<std::string> all, out;
+  r.cfg.getAllSections(all);
+  for (const auto& s : all)
+    if ((wanted.empty() || s == wanted) && owns(s)) out.push_back(s);
+  return out;
+}
+
+/// A scenario owns [scenario] and the sections it names (present ones).
+std::vector<std::string> scenarioSections(const IniReader& r, const std::string&) {
+  if (!r.cfg.sectionExists("scenario")) return {};
+  std::vector<std::string> out = {"scenario"};
+  const ScenarioKeys defaults;
+  for (const auto& [key, def] :
+       {std::pair{"camera_section", defaults.camera_section}, {"sensor_section", defaults.sensor_section},
+        {"motion_section", defaults.motion_section}, {"gyro_section", defaults.gyro_section},
+        {"faults_section", defaults.faults_section}}) {
+    const std::string sec = r.str("scenario", key, def);
+    if (r.cfg.sectionExists(sec)) out.push_back(sec);
+  }
+  return out;
+}
+
+std::string printCamera(const IniReader& r, const std::string& sec) {
+  CameraIniKeys keys = CameraModel::loadIni(r, sec).iniKeys();
+  keys.focal_length = r.num(sec, "focal_length", 0.0);  // informational: kept as written
+  return cameraIniSchema().print(sec, keys);
+}
+
+}  // namespace
+
+void addConfigSchemas(SchemaPrinters& printers) {
+  printers.add("scenario", &scenarioSections, [](const IniReader& r, const std::vector<std::string>&) {
+    return printScenarioIni(readScenarioIni(r));  // the whole file: its sections name each other
+  });
+  printers.add("montecarlo run file", sectionNamed(mc::kRunSection), perSection(&mc::printRunFile));
+  printers.add(
+      "simulated sensor",
+      [](const IniReader& r, const std::string& wanted) {
+        return sectionsWhere(r, wanted, [&](const std::string& s) { return isSimulatedSensorSection(r.cfg, s); });
+      },
+      perSection(&printSimulatedSensorSection));
+  printers.add(
+      "camera",
+      [](const IniReader& r, const std::string& wanted) {
+        return sectionsWhere(r, wanted, [&](const std::string& s) { return r.exists(s, "resolution"); });
+      },
+      perSection(&printCamera));
+}
+
+}  // namespace st::app

@@ -1,0 +1,50 @@
+#include "app/live/live_recorder.hpp"
+
+#include <mrpt/obs/CObservationImage.h>
+
+#include <algorithm>
+
+namespace st::app {
+
+void LiveRecorder::record(std::vector<mrpt::obs::CObservation::Ptr> batch) {
+  std::stable_sort(batch.begin(), batch.end(),
+                   [](const auto& a, const auto& b) { return a->timestamp < b->timestamp; });
+  for (auto& o : batch) {
+    if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(o)) {
+      if (!img->image.isExternallyStored()) {  // a sensor that keeps images inline
+        char name[128];
+        std::snprintf(name, sizeof(name), "%s_live_%06d.png", img->sensorLabel.c_str(),
+                      image_no_++);
+        writer_.externalizeImage(img->image, name);
+      }
+    }
+    writer_.write(*o);
+    ++written_;
+    ++per_label_[o->sensorLabel];
+    if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o)) {
+      ++frames_;
+      if (f->hasAttitude()) ++solved_;
+      if (f->mode == StarTrackerMode::kTracking) ++tracking_;
+      if (f->mode == StarTrackerMode::kLostInSpace) ++lis_;
+      if (!f->hasAttitude()) ++failures_[f->failure];
+    }
+    if (nav_) nav_->push(o);
+  }
+}
+
+void LiveRecorder::printRawlogSummary(const std::string& path, std::FILE* out) const {
+  std::fprintf(out, "rawlog: %s, %zu observations\n", path.c_str(), written_);
+  for (const auto& [label, n] : per_label_) std::fprintf(out, "  %-16s %zu\n", label.c_str(), n);
+}
+
+void LiveRecorder::printTrackerSummary(std::FILE* out) const {
+  const auto pct = [](int a, int b) { return b > 0 ? 100.0 * a / b : 0.0; };
+  std::fprintf(out,
+               "star tracker: %d frames, %d solved (%.1f %%), %d tracking (%.1f %%), "
+               "%d lost-in-space\n",
+               frames_, solved_, pct(solved_, frames_), tracking_, pct(tracking_, frames_), lis_);
+  for (const auto& [failure, n] : failures_)
+    std::fprintf(out, "  failed %d x: %s\n", n, toString(failure));
+}
+
+}  // namespace st::app

@@ -1,0 +1,52 @@
+/// @file ini_reader.hpp
+/// Strict reading of .ini keys through MRPT's CConfigFileBase: a key that is present must
+/// parse completely, and onlyKeys() refuses unknown keys by name, suggesting the nearest
+/// known one (a typo must not be silently ignored). Defaults stay with the option structs:
+/// every reader is given the current value and returns it when the key is absent.
+/// Declarative schemas built on this reader: config/schema.hpp.
+#pragma once
+#include <cstdint>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace mrpt::config {
+class CConfigFileBase;
+}
+
+namespace st {
+
+struct IniReader {
+  const mrpt::config::CConfigFileBase& cfg;
+  std::string source;  ///< the file, for messages ("" when unknown)
+  /// Messages say "section 'S' key 'K'" instead of "[S] K": MRPT's stacked exceptions
+  /// (CGenericSensor::loadConfig wraps ours) cut a message at its first ']'.
+  bool mrpt_safe = false;
+
+  std::string where(const std::string& sec, const std::string& key) const;
+  std::string where(const std::string& sec) const;
+  /// "file: [S] key 'K'" (or the MRPT-safe "file: section 'S' key 'K'").
+  std::string whereKey(const std::string& sec, const std::string& key) const;
+  bool has(const std::string& sec, const std::string& key) const;
+  /// True when the key is written in the section, even with an empty value.
+  bool exists(const std::string& sec, const std::string& key) const;
+  std::string str(const std::string& sec, const std::string& key, const std::string& def) const;
+  double num(const std::string& sec, const std::string& key, double def) const;
+  int integer(const std::string& sec, const std::string& key, int def) const;
+  uint64_t uint64(const std::string& sec, const std::string& key, uint64_t def) const;
+  bool boolean(const std::string& sec, const std::string& key, bool def) const;
+  /// A number list ("[640 480]", "1, 2, 3"); `def` when the key is absent.
+  std::vector<double> numbers(const std::string& sec, const std::string& key,
+                              const std::vector<double>& def) const;
+  /// Throws InputError naming the first key of `sec` that is not in `allowed`, with the
+  /// nearest allowed key as a suggestion when one is close (closestKey).
+  void onlyKeys(const std::string& sec, const std::set<std::string>& allowed) const;
+};
+
+/// Levenshtein distance (insertions, deletions, substitutions) between two keys.
+int editDistance(const std::string& a, const std::string& b);
+/// The candidate nearest to `key` by edit distance when it is close enough to be a typo of
+/// it (distance <= 2, or <= a third of the key's length); "" otherwise.
+std::string closestKey(const std::string& key, const std::vector<std::string>& candidates);
+
+}  // namespace st

@@ -1,0 +1,156 @@
+/// @file schema.hpp
+/// A declarative schema of one .ini section: a table of keys bound to members of a struct
+/// (the defaults are the struct's own member initialisers), each with a one-line help.
+/// From one table come strict reading (unknown keys are InputErrors naming the file,
+/// section and key with the nearest valid key; bad values name the key; required keys) and
+/// the printing of the effective configuration in ini form, which reads back to the same
+/// values.
+///
+///   struct GyroKeys { double rate_hz = 0; double arw_deg_rt_h = 0; std::string mode = "a"; };
+///   const SectionSchema<GyroKeys>& gyroSchema() {
+///     static const auto s = SectionSchema<GyroKeys>()
+///         .add("rate_hz", &GyroKeys::rate_hz, "[Hz] sample rate").required()
+///         .add("arw_deg_rt_h", &GyroKeys::arw_deg_rt_h, "[deg/sqrt(h)] angle random walk")
+///         .choice("mode", &GyroKeys::mode, {"a", "b"}, "which model");
+///     return s;
+///   }
+///   GyroKeys g;                                            // defaults
+///   gyroSchema().read(IniReader{cfg, path}, "gyro", g);   // strict
+///   std::string text = gyroSchema().print("gyro", g);    // "[gyro]\n# [Hz] ...\nrate_hz = 100\n..."
+#pragma once
+#include <functional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/errors.hpp"
+#include "config/ini_reader.hpp"
+#include "config/ini_value.hpp"
+
+namespace st {
+
+/// Prints one key with its help as a comment line above it (MRPT's ini parser takes only
+/// whole-line comments).
+std::string formatIniKey(const std::string& key, const std::string& value, const std::string& help);
+/// Throws the InputError for a value of `key` outside `names`, suggesting the nearest name.
+[[noreturn]] void throwBadChoice(const IniReader& r, const std::string& sec, const std::string& key,
+                                 const std::string& value, const std::vector<std::string>& names);
+
+template <class T>
+class SectionSchema {
+ public:
+  struct Key {
+    std::string name, help;
+    bool required = false;
+    bool printed = true;  ///< false for read-only aliases (another unit of a printed key)
+    std::function<bool(const IniReader&, const std::string&)> present;
+    std::function<void(const IniReader&, const std::string&, T&)> read;
+    std::function<std::string(const T&)> write;
+  };
+
+  /// A key bound to a member of type double, int, uint64_t, bool, std::string, number or
+  /// string lists, Vec2, Vec3 or intervals (ini_value.hpp).
+  template <class V>
+  SectionSchema& add(const std::string& key, V T::*member, const std::string& help) {
+    Key k;
+    k.name = key;
+    k.help = help;
+    k.present = [key](const IniReader& r, const std::string& s) { return IniCodec<V>::present(r, s, key); };
+    k.read = [key, member](const IniReader& r, const std::string& s, T& t) {
+      IniCodec<V>::read(r, s, key, t.*member);
+    };
+    k.write = [member](const T& t) { return IniCodec<V>::write(t.*member); };
+    keys_.push_back(std::move(k));
+    return *this;
+  }
+
+  /// A string member restricted to `names` (a value outside is an error with a suggestion).
+  SectionSchema& choice(const std::string& key, std::string T::*member,
+                        std::vector<std::string> names, const std::string& help) {
+    add(key, member, help + " (" + join(names, " | ") + ")");
+    auto plain = keys_.back().read;
+    keys_.back().read = [key, member, names, plain](const IniReader& r, const std::string& s, T& t) {
+      plain(r, s, t);
+      for (const auto& n : names)
+        if (t.*member == n) return;
+      throwBadChoice(r, s, key, t.*member, names);
+    };
+    return *this;
+  }
+
+  /// Another unit of a printed double key: read as value * scale into the member, never
+  /// printed (the printed configuration uses the canonical key).
+  SectionSchema& alias(const std::string& key, double T::*member, double scale,
+                       const std::string& help) {
+    add(key, member, help);
+    keys_.back().read = [key, member, scale](const IniReader& r, const std::string& s, T& t) {
+      t.*member = scale * r.num(s, key, 0.0);
+    };
+    keys_.back().printed = false;
+    return *this;
+  }
+
+  /// Marks the last key added as required (absent -> InputError naming it).
+  SectionSchema& required() {
+    keys_.back().required = true;
+    return *this;
+  }
+
+  /// Every key of `inner`, bound to the member `part` of T (one section made of two structs).
+  template <class U>
+  SectionSchema& include(const SectionSchema<U>& inner, U T::*part) {
+    for (const auto& ik : inner.keys()) {
+      Key k;
+      k.name = ik.name;
+      k.help = ik.help;
+      k.required = ik.required;
+      k.printed = ik.printed;
+      k.present = ik.present;
+      auto rd = ik.read;
+      auto wr = ik.write;
+      k.read = [rd, part](const IniReader& r, const std::string& s, T& t) { rd(r, s, t.*part); };
+      k.write = [wr, part](const T& t) { return wr(t.*part); };
+      keys_.push_back(std::move(k));
+    }
+    return *this;
+  }
+
+  const std::vector<Key>& keys() const { return keys_; }
+  std::set<std::string> names() const {
+    std::set<std::string> out;
+    for (const auto& k : keys_) out.insert(k.name);
+    return out;
+  }
+
+  /// Strict read of section `sec` into `out` (keys absent keep out's values). Unknown keys,
+  /// missing required keys and unparsable values throw InputError naming file/section/key.
+  void read(const IniReader& r, const std::string& sec, T& out) const {
+    r.onlyKeys(sec, names());
+    for (const auto& k : keys_) {
+      if (k.present(r, sec))
+        k.read(r, sec, out);
+      else if (k.required)
+        throw InputError(r.whereKey(sec, k.name) + ": missing key (" + k.help + ")");
+    }
+  }
+
+  /// The section in ini form, every printed key with its value and help.
+  std::string print(const std::string& sec, const T& v) const {
+    std::string s = "[" + sec + "]\n";
+    for (const auto& k : keys_)
+      if (k.printed) s += formatIniKey(k.name, k.write(v), k.help);
+    return s;
+  }
+
+ private:
+  static std::string join(const std::vector<std::string>& v, const char* sep) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
+    return s;
+  }
+
+  std::vector<Key> keys_;
+};
+
+}  // namespace st

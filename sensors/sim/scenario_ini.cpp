@@ -1,0 +1,120 @@
+// Reading and printing a scenario .ini through the section schemas (scenario.hpp lists the
+// sections): one strict reader for every section, and the effective configuration.
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <filesystem>
+
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "sensors/sim/scenario.hpp"
+
+namespace st {
+
+namespace {
+
+const SectionSchema<ScenarioKeys>& scenarioKeysSchema() {
+  using S = ScenarioKeys;
+  static const auto schema =
+      SectionSchema<S>()
+          .add("duration_s", &S::duration_s, "[s] run length, > 0")
+          .add("frame_rate_hz", &S::frame_rate_hz, "[Hz] camera frame rate, > 0")
+          .add("start_time", &S::start_time, "UTC of t = 0, YYYY-MM-DDTHH:MM:SS (empty = start_jyear)")
+          .add("start_jyear", &S::start_jyear, "[Julian year] t = 0 when start_time is empty")
+          .add("seed", &S::seed, "default run seed (the CLI's --seed overrides it)")
+          .add("database", &S::database, "star database file; empty = build from catalog")
+          .add("catalog", &S::catalog, "catalog for the in-memory build; empty = the default")
+          .add("mag_limit", &S::mag_limit, "[mag] faintest star rendered (in-memory build)")
+          .add("aberration", &S::aberration, "apparent places (annual aberration), in-memory build")
+          .add("camera_section", &S::camera_section, "section of the camera model")
+          .add("sensor_section", &S::sensor_section, "section of the optics + detector model")
+          .add("motion_section", &S::motion_section, "section of the true motion")
+          .add("gyro_section", &S::gyro_section, "section of the gyro (absent = no gyro)")
+          .add("faults_section", &S::faults_section, "section of the faults (absent = none)");
+  return schema;
+}
+
+const SectionSchema<ScenarioGyroKeys>& gyroKeysSchema() {
+  using G = ScenarioGyroKeys;
+  static const auto schema =
+      SectionSchema<G>()
+          .include(gyroParamsSchema(), &G::params)
+          .add("initial_bias_deg_h", &G::initial_bias_deg_h, "[deg/h] x y z turn-on bias of the run");
+  return schema;
+}
+
+void requireSection(const IniReader& r, const std::string& sec) {
+  if (!r.cfg.sectionExists(sec)) throw InputError(r.where(sec) + ": missing section");
+}
+
+}  // namespace
+
+ScenarioIni readScenarioIni(const IniReader& r) {
+  ScenarioIni sc;
+  const std::string S = "scenario";
+  requireSection(r, S);
+  ScenarioKeys& k = sc.main;
+  scenarioKeysSchema().read(r, S, k);
+  if (!(k.duration_s > 0)) throw InputError(r.whereKey(S, "duration_s") + ": must be > 0");
+  if (!(k.frame_rate_hz > 0)) throw InputError(r.whereKey(S, "frame_rate_hz") + ": must be > 0");
+  requireSection(r, k.camera_section);
+  sc.camera = CameraModel::loadIni(r, k.camera_section);
+  sc.sensor = SensorParams::fromConfig(r, k.sensor_section);
+  requireSection(r, k.motion_section);
+  sc.motion = readMotionKeys(r, k.motion_section);
+  MotionProfile::fromKeys(sc.motion, r.where(k.motion_section));  // validates the values
+  if (r.cfg.sectionExists(k.gyro_section)) {
+    ScenarioGyroKeys g;
+    gyroKeysSchema().read(r, k.gyro_section, g);
+    const std::string err = g.params.validate();
+    if (!err.empty()) throw InputError(r.where(k.gyro_section) + ": " + err);
+    sc.gyro = g;
+  }
+  sc.faults = FaultParams::fromConfig(r, k.faults_section);
+  return sc;
+}
+
+std::string printScenarioIni(const ScenarioIni& sc) {
+  const ScenarioKeys& k = sc.main;
+  std::string out = scenarioKeysSchema().print("scenario", k) + "\n";
+  out += cameraIniSchema().print(k.camera_section, sc.camera.iniKeys()) + "\n";
+  out += sensorParamsSchema().print(k.sensor_section, sc.sensor) + "\n";
+  out += motionSchema(sc.motion.type).print(k.motion_section, sc.motion) + "\n";
+  if (sc.gyro) out += gyroKeysSchema().print(k.gyro_section, *sc.gyro) + "\n";
+  out += faultParamsSchema().print(k.faults_section, sc.faults);
+  return out;
+}
+
+Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const std::string& source,
+                              const std::string& base_dir) {
+  const IniReader r{cfg, source};
+  const ScenarioIni ini = readScenarioIni(r);
+  const ScenarioKeys& k = ini.main;
+  Scenario sc;
+  sc.source = source;
+  sc.duration_s = k.duration_s;
+  sc.frame_rate_hz = k.frame_rate_hz;
+  sc.start_unix_s = k.start_time.empty()
+                        ? unixSecondsFromJulianYear(k.start_jyear)
+                        : parseUtc(k.start_time, r.whereKey("scenario", "start_time"));
+  sc.seed = k.seed;
+  auto path = [&](std::string p) {
+    if (!p.empty() && std::filesystem::path(p).is_relative())
+      p = (std::filesystem::path(base_dir) / p).string();
+    return p;
+  };
+  sc.database_path = path(k.database);
+  sc.catalog_path = path(k.catalog);
+  sc.mag_limit = k.mag_limit;
+  sc.aberration = k.aberration;
+  sc.camera = ini.camera;
+  sc.sensor = ini.sensor;
+  sc.motion = MotionProfile::fromKeys(ini.motion, r.where(k.motion_section));
+  if (ini.gyro) {
+    sc.gyro = ini.gyro->params;
+    sc.gyro_initial_bias_rad_s = ini.gyro->initial_bias_deg_h * (kRadPerDeg / 3600.0);
+  }
+  sc.faults = ini.faults;
+  return sc;
+}
+
+}  // namespace st
