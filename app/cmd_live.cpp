@@ -29,6 +29,7 @@
 #include "app/command.hpp"
 #include "app/live/live_display.hpp"
 #include "app/live/live_navigator.hpp"
+#include "app/live/live_recorder.hpp"
 #include "navigation/run_summary.hpp"
 #include "navigation/tracker_config.hpp"
 #include "config/ini_reader.hpp"
@@ -64,6 +65,139 @@ NavigatorOptions navigatorOptions(const mrpt::config::CConfigFileBase& cfg,
   return o;
 }
 
+/// One live run: the sensors in their threads, the recorder, the navigator, the window.
+class LiveSession {
+ public:
+  LiveSession(const LiveArgs& args, const mrpt::config::CConfigFileBase& cfg,
+              const fs::path& out_path)
+      : args_(args), out_path_(out_path), writer_(out_path.string()), recorder_(writer_, nullptr) {
+    bool nav_enabled = true;
+    nav_opts_ = navigatorOptions(cfg, args.config, &nav_enabled);
+    nav_enabled_ = nav_enabled;
+    std::vector<SensorSpec> specs = createSensors(cfg, args.config);  // InputError -> exit 2
+    for (auto& spec : specs) {
+      spec.sensor->setPathForExternalImages(writer_.imagesDir());
+      if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) trackers_.push_back(t);
+      runners_.push_back(std::make_unique<SensorRunner>(std::move(spec), queue_));
+    }
+  }
+
+  /// Starts the sensors and the navigator; returns how many sensors started.
+  int start() {
+    std::printf("live: %zu sensor(s) from %s, recording to %s\n", runners_.size(),
+                args_.config.c_str(), out_path_.string().c_str());
+    std::fflush(stdout);
+    for (auto& r : runners_) r->start();
+    for (auto& r : runners_) r->waitInitialized();
+    // The navigator needs the star tracker's database and camera: built by initialize().
+    if (nav_enabled_ && !trackers_.empty() && trackers_.front()->database()) {
+      CStarTrackerSensor* t = trackers_.front();
+      NavigatorOptions o = nav_opts_;
+      o.star_tracker_label = t->getSensorLabel();
+      nav_ = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o);
+      recorder_.setNavigator(nav_.get());
+      LiveNavigator* nav = nav_.get();
+      t->setInputsProvider([nav](mrpt::Clock::time_point when) { return nav->frameInputs(when); });
+    }
+    int running = 0;
+    for (auto& r : runners_) running += r->state() != SensorRunner::State::kFailed;
+    for (auto& r : runners_) r->go();
+    printReports();
+    if (args_.gui) {
+      std::string why;
+      if (!display_.open("startracker live", &why))
+        std::fprintf(stderr, "live: --gui: %s; running without a window\n", why.c_str());
+    }
+    return running;
+  }
+
+  /// Records until a signal, --duration, the window or the sensors end it; returns why.
+  std::string runUntilStopped() {
+    using clock = std::chrono::steady_clock;
+    const auto t_start = clock::now();
+    auto last_gui = t_start;
+    for (;;) {
+      if (g_signal) return g_signal == SIGINT ? "SIGINT" : "SIGTERM";
+      elapsed_s_ = std::chrono::duration<double>(clock::now() - t_start).count();
+      if (args_.duration_s > 0 && elapsed_s_ >= args_.duration_s) return "--duration";
+      recorder_.record(queue_.takeAll(0.05));
+      printReports();
+      if (display_.isOpen() && clock::now() - last_gui > std::chrono::milliseconds(100)) {
+        last_gui = clock::now();
+        showFrame();
+        if (display_.quitRequested()) return "the window (q)";
+      }
+      int alive = 0;
+      for (auto& r : runners_) alive += r->state() != SensorRunner::State::kFailed;
+      if (alive == 0) return "all sensors stopped";
+    }
+  }
+
+  /// Stops the sensors first, then writes what they had already delivered: nothing received
+  /// is lost, and the rawlog is closed properly.
+  void stop() {
+    for (auto& r : runners_) r->stop();
+    recorder_.record(queue_.takeAll(0.0));
+    printReports();
+    if (nav_) {
+      nav_->flush();
+      trackers_.front()->setInputsProvider({});
+    }
+    writer_.close();
+    display_.close();
+  }
+
+  void printSummary(const std::string& why_stop) const {
+    std::printf("live: stopped by %s after %.1f s\n", why_stop.c_str(), elapsed_s_);
+    recorder_.printRawlogSummary(out_path_.string(), stdout);
+    for (auto& r : runners_) {
+      const char* st = r->state() == SensorRunner::State::kFailed ? "FAILED" : "ok";
+      std::printf("sensor '%s' %s: %zu observations, %s\n", r->section().c_str(),
+                  r->driver().c_str(), r->observations(), st);
+    }
+    recorder_.printTrackerSummary(stdout);
+    if (!nav_) return;
+    const auto s = nav_->stats();
+    std::printf("filter: %d fixes (%d accepted, %d rejected, %d ignored while waiting for "
+                "lost-in-space), %d re-initialisations, %d warnings\n",
+                s.fixes, s.accepted, s.rejected, s.ignored, s.reinits, s.warnings);
+    for (const auto& w : nav_->warnings()) std::fprintf(stderr, "live: warning: %s\n", w.c_str());
+    const std::vector<NavStep> steps = nav_->steps();
+    printNavigationSummary(steps, stdout);
+    if (!args_.csv.empty()) {
+      const int rows = writeNavStepCsv(steps, args_.csv);
+      std::printf("csv: %s (%d rows)\n", args_.csv.c_str(), rows);
+    }
+  }
+
+ private:
+  void printReports() {
+    for (const auto& m : queue_.takeReports()) std::fprintf(stderr, "live: %s\n", m.c_str());
+  }
+  void showFrame() {
+    if (trackers_.empty()) return;
+    Quat q;
+    Mat3 P;
+    std::optional<Quat> att;
+    if (nav_ && nav_->current(q, P)) att = q;
+    const auto fix = trackers_.front()->lastObservation();
+    display_.show(trackers_.front()->lastImage(), fix.get(), att);
+  }
+
+  const LiveArgs& args_;
+  fs::path out_path_;
+  NavigatorOptions nav_opts_;
+  bool nav_enabled_ = true;
+  RawlogWriter writer_;
+  ObservationQueue queue_;
+  std::vector<std::unique_ptr<SensorRunner>> runners_;
+  std::vector<CStarTrackerSensor*> trackers_;
+  std::unique_ptr<LiveNavigator> nav_;
+  LiveRecorder recorder_;
+  LiveDisplay display_;
+  double elapsed_s_ = 0;
+};
+
 int runLive(const LiveArgs& args) {
   registerStarTrackerClasses();
   registerSimulatedSensors();
@@ -77,169 +211,19 @@ int runLive(const LiveArgs& args) {
   if (out.empty()) out = cfg.read_string("global", "rawlog_file", "live.rawlog");
   // -o is relative to where the user runs; rawlog_file to the .ini, like every other path.
   const fs::path out_path = args.out.empty() ? config.parent_path() / out : fs::absolute(out);
-
   fs::current_path(config.parent_path());  // the .ini's relative paths
-  bool nav_enabled = true;
-  const NavigatorOptions nav_opts = navigatorOptions(cfg, args.config, &nav_enabled);
-  std::vector<SensorSpec> specs = createSensors(cfg, args.config);  // InputError -> exit 2
 
-  RawlogWriter writer(out_path.string());
-  ObservationQueue queue;
-  std::vector<std::unique_ptr<SensorRunner>> runners;
-  std::vector<CStarTrackerSensor*> trackers;
-  for (auto& spec : specs) {
-    spec.sensor->setPathForExternalImages(writer.imagesDir());
-    if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) trackers.push_back(t);
-    runners.push_back(std::make_unique<SensorRunner>(std::move(spec), queue));
-  }
-
+  LiveSession session(args, cfg, out_path);
   g_signal = 0;
   struct sigaction sa {};
   sa.sa_handler = onStopSignal;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-
-  std::printf("live: %zu sensor(s) from %s, recording to %s\n", runners.size(),
-              args.config.c_str(), out_path.string().c_str());
-  std::fflush(stdout);
-  for (auto& r : runners) r->start();
-  for (auto& r : runners) r->waitInitialized();
-  // The navigator needs the star tracker's database and camera: built after initialize().
-  std::unique_ptr<LiveNavigator> nav;
-  if (nav_enabled && !trackers.empty() && trackers.front()->database()) {
-    CStarTrackerSensor* t = trackers.front();
-    NavigatorOptions o = nav_opts;
-    o.star_tracker_label = t->getSensorLabel();
-    nav = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o);
-    t->setPredictor([&nav](mrpt::Clock::time_point when) {
-      return nav->frameInputs(when).prediction;
-    });
-  }
-  auto printReports = [&] {
-    for (const auto& m : queue.takeReports()) std::fprintf(stderr, "live: %s\n", m.c_str());
-  };
-  int running = 0;
-  for (auto& r : runners) {
-    if (r->state() != SensorRunner::State::kFailed) ++running;
-  }
-  for (auto& r : runners) r->go();
-  printReports();
-
-  LiveDisplay display;
-  if (args.gui) {
-    std::string why;
-    if (!display.open("startracker live", &why))
-      std::fprintf(stderr, "live: --gui: %s; running without a window\n", why.c_str());
-  }
-
-  std::map<std::string, std::size_t> per_label;
-  std::map<std::string, int> failures;  // reason -> frames
-  int frames = 0, solved = 0, tracking = 0, lis = 0, image_no = 0;
-  std::size_t written = 0;
-  auto record = [&](std::vector<mrpt::obs::CObservation::Ptr> batch) {
-    std::stable_sort(batch.begin(), batch.end(),
-                     [](const auto& a, const auto& b) { return a->timestamp < b->timestamp; });
-    for (auto& o : batch) {
-      if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(o)) {
-        if (!img->image.isExternallyStored()) {  // a sensor that keeps images inline
-          char name[128];
-          std::snprintf(name, sizeof(name), "%s_live_%06d.png", img->sensorLabel.c_str(),
-                        image_no++);
-          writer.externalizeImage(img->image, name);
-        }
-      }
-      writer.write(*o);
-      ++written;
-      ++per_label[o->sensorLabel];
-      if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o)) {
-        ++frames;
-        if (f->hasAttitude()) ++solved;
-        if (f->mode == StarTrackerMode::kTracking) ++tracking;
-        if (f->mode == StarTrackerMode::kLostInSpace) ++lis;
-        if (!f->hasAttitude()) ++failures[f->reason.substr(0, 80)];
-      }
-      if (nav) nav->push(o);
-    }
-  };
-
-  using clock = std::chrono::steady_clock;
-  const auto t_start = clock::now();
-  auto last_gui = t_start;
-  std::string why_stop = "all sensors stopped";
-  if (running == 0) why_stop = "no sensor started";
-  while (running > 0) {
-    if (g_signal) {
-      why_stop = g_signal == SIGINT ? "SIGINT" : "SIGTERM";
-      break;
-    }
-    const double elapsed = std::chrono::duration<double>(clock::now() - t_start).count();
-    if (args.duration_s > 0 && elapsed >= args.duration_s) {
-      why_stop = "--duration";
-      break;
-    }
-    record(queue.takeAll(0.05));
-    printReports();
-    if (display.isOpen() && clock::now() - last_gui > std::chrono::milliseconds(100)) {
-      last_gui = clock::now();
-      if (!trackers.empty()) {
-        Quat q;
-        Mat3 P;
-        std::optional<Quat> att;
-        if (nav && nav->current(q, P)) att = q;
-        const auto fix = trackers.front()->lastObservation();
-        display.show(trackers.front()->lastImage(), fix.get(), att);
-      }
-      if (display.quitRequested()) {
-        why_stop = "the window (q)";
-        break;
-      }
-    }
-    int alive = 0;
-    for (auto& r : runners) alive += r->state() != SensorRunner::State::kFailed;
-    if (alive == 0) break;
-  }
-  const double elapsed = std::chrono::duration<double>(clock::now() - t_start).count();
-
-  // Stop the sensors first, then write what they had already delivered: nothing received is
-  // lost, and the rawlog is closed properly.
-  for (auto& r : runners) r->stop();
-  record(queue.takeAll(0.0));
-  printReports();
-  if (nav) {
-    nav->flush();
-    trackers.front()->setPredictor({});
-  }
-  writer.close();
-  display.close();
-
-  std::printf("live: stopped by %s after %.1f s\n", why_stop.c_str(), elapsed);
-  std::printf("rawlog: %s, %zu observations\n", out_path.string().c_str(), written);
-  for (const auto& [label, n] : per_label) std::printf("  %-16s %zu\n", label.c_str(), n);
-  for (auto& r : runners) {
-    const char* st = r->state() == SensorRunner::State::kFailed ? "FAILED" : "ok";
-    std::printf("sensor '%s' %s: %zu observations, %s\n", r->section().c_str(),
-                r->driver().c_str(), r->observations(), st);
-  }
-  const auto pct = [](int a, int b) { return b > 0 ? 100.0 * a / b : 0.0; };
-  std::printf("star tracker: %d frames, %d solved (%.1f %%), %d tracking (%.1f %%), "
-              "%d lost-in-space\n",
-              frames, solved, pct(solved, frames), tracking, pct(tracking, frames), lis);
-  for (const auto& [reason, n] : failures)
-    std::printf("  failed %d x: %s\n", n, reason.c_str());
-  if (nav) {
-    const auto s = nav->stats();
-    std::printf("filter: %d fixes (%d accepted, %d rejected, %d ignored while waiting for "
-                "lost-in-space), %d re-initialisations, %d warnings\n",
-                s.fixes, s.accepted, s.rejected, s.ignored, s.reinits, s.warnings);
-    for (const auto& w : nav->warnings()) std::fprintf(stderr, "live: warning: %s\n", w.c_str());
-    const std::vector<NavStep> steps = nav->steps();
-    printNavigationSummary(steps, stdout);
-    if (!args.csv.empty()) {
-      const int rows = writeNavStepCsv(steps, args.csv);
-      std::printf("csv: %s (%d rows)\n", args.csv.c_str(), rows);
-    }
-  }
+  const int running = session.start();
+  const std::string why_stop = running > 0 ? session.runUntilStopped() : "no sensor started";
+  session.stop();
+  session.printSummary(why_stop);
   std::fflush(stdout);
   return running > 0 ? kExitOk : kExitFailure;
 }
