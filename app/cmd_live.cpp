@@ -89,8 +89,10 @@ int runLive(const LiveArgs& args) {
     spec.sensor->setPathForExternalImages(writer.imagesDir());
     if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) {
       trackers.push_back(t);
-      if (nav_enabled) t->setPredictor([&filter](mrpt::Clock::time_point when) {
-        return filter.predict(when);
+      if (nav_enabled) t->setInputsProvider([&filter](mrpt::Clock::time_point when) {
+        FrameInputs in;
+        in.prediction = filter.predict(when);
+        return in;
       });
     }
     runners.push_back(std::make_unique<SensorRunner>(std::move(spec), queue));

@@ -41,7 +41,7 @@ void NavigatorOptions::validate() const {
   auto bad = [](const std::string& key, const std::string& why) {
     throw InputError("navigator option '" + key + "': " + why);
   };
-  pipeline.validate();
+  pipeline.trackerOptions().validate();
   std::string err;
   if (!filter.isValid(&err)) bad("filter", err);
   if (update != "attitude" && update != "stars") bad("update", "'" + update + "': attitude|stars");
@@ -197,7 +197,7 @@ struct Navigator::Item {
 
 Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options)
     : db_(db), opts_(std::move(options)), filter_((opts_.validate(), opts_.filter)) {
-  pipeline_ = std::make_unique<StarTrackerPipeline>(db, camera, opts_.pipeline);
+  pipeline_ = std::make_unique<StarTracker>(db, camera, opts_.pipeline.trackerOptions());
   // Catalog id -> star index, for star-vector updates.
   std::vector<std::pair<uint32_t, uint32_t>> m;
   m.reserve(db.stars().size());
@@ -433,19 +433,22 @@ void Navigator::onCamera(const mrpt::obs::CObservation& obs, double t) {
     }
     coastTo(t);
   }
+  FrameInputs in;
   if (filter_.initialized() && !reinit_pending_) {
     const MekfPrediction pred = filter_.predictAt(t);
     AttitudePrediction ap;
     ap.q_ib = pred.q_ib;
     ap.cov_body = pred.attitudeCov();
     ap.rate_body = recentMeanRate() - pred.bias;
-    pipeline_->setPrediction(ap);
+    in.prediction = ap;
   } else if (recent_next_ > 0 && !gyroStale(t)) {
     // No attitude yet, but the gyro's rate tells lost-in-space how the stars streak (the
     // unknown bias, a few deg/h, is nothing next to a streak).
-    pipeline_->setGyroRate(recentMeanRate());
+    in.rate_body = recentMeanRate();
   }
-  CObservationStarTracker::Ptr st = pipeline_->process(image, obs.timestamp);
+  CObservationStarTracker::Ptr st =
+      observationFromFrame(pipeline_->process(image, t, in), obs.timestamp,
+                           opts_.pipeline.sensor_label, opts_.pipeline.sensor_pose);
   if (io.image.isExternallyStored()) io.image.unload();
   s.has_frame = true;
   s.mode = st->mode;

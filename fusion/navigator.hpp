@@ -1,10 +1,10 @@
 /// @file navigator.hpp
-/// The navigator closes the loop of DESIGN.md's data flow: it owns one StarTrackerPipeline
+/// The navigator closes the loop of DESIGN.md's data flow: it owns one StarTracker
 /// and one AttitudeMekf and routes observations (from a rawlog or live sensors) in timestamp
 /// order:
 ///   GYRO (CObservationIMU)          -> AttitudeMekf::propagate (mean rate over the sample);
-///   CAMERA (CObservationImage)      -> predictAt(frame time) -> pipeline.setPrediction ->
-///                                      pipeline.process -> updateAttitude (or star vectors);
+///   CAMERA (CObservationImage)      -> predictAt(frame time) -> FrameInputs ->
+///                                      StarTracker::process -> updateAttitude (or star vectors);
 ///                                      the first lost-in-space fix initialises the filter;
 ///   GROUND_TRUTH (CObservation6DFeatures) -> statistics only, never seen by the estimator.
 ///
@@ -41,7 +41,8 @@
 #include "fusion/mekf.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
-#include "sensors/mrpt/star_tracker_pipeline.hpp"
+#include "sensors/mrpt/observation_from_frame.hpp"
+#include "sensors/tracking/star_tracker.hpp"
 
 namespace mrpt::config {
 class CConfigFileBase;
@@ -180,7 +181,7 @@ class Navigator {
   /// Seconds from the first observation pushed to `t` (0 before any).
   double secondsFromStart(mrpt::Clock::time_point t) const;
   const AttitudeMekf& filter() const { return filter_; }
-  const StarTrackerPipeline& pipeline() const { return *pipeline_; }
+  const StarTracker& pipeline() const { return *pipeline_; }
   const NavigatorOptions& options() const { return opts_; }
 
  private:
@@ -202,7 +203,7 @@ class Navigator {
 
   const StarDatabase& db_;
   NavigatorOptions opts_;
-  std::unique_ptr<StarTrackerPipeline> pipeline_;
+  std::unique_ptr<StarTracker> pipeline_;
   AttitudeMekf filter_;
   std::vector<uint32_t> id_to_index_keys_;  // sorted catalog ids
   std::vector<uint32_t> id_to_index_vals_;

@@ -22,7 +22,7 @@
 #include <string>
 
 #include "fusion/mekf.hpp"
-#include "sensors/mrpt/star_tracker_pipeline.hpp"
+#include "sensors/tracking/frame.hpp"
 
 namespace st::app {
 

@@ -10,6 +10,11 @@
 /// for an older layout with setWriteVersion):
 ///   0: timestamp, label, sensor pose, mode, reason, q_ib, covariance, stars, blobs
 ///   1: + per-stage timings (version-0 objects read with timings = 0)
+///   2: + failure (FrameFailure, uint8); older objects read with failure = kNone for a fix
+///      and kUnknown for a failed frame (their kind was not recorded)
+///
+/// Mode, failure, MatchedStar and StageTimings are the tracking stage's
+/// (sensors/tracking/frame.hpp); observation_from_frame.hpp converts a FrameResult.
 #pragma once
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/poses/CPose3D.h>
@@ -20,47 +25,20 @@
 #include <vector>
 
 #include "common/attitude.hpp"
+#include "sensors/tracking/frame.hpp"
 
 namespace st {
-
-/// How the fix was obtained.
-enum class StarTrackerMode : uint8_t {
-  kLostInSpace = 0,  ///< full-frame detection + lost-in-space identification
-  kTracking = 1,     ///< predicted windows + recursive identification
-  kFailed = 2,       ///< no attitude this frame (see `reason`)
-};
-/// "lost-in-space", "tracking", "failed".
-const char* toString(StarTrackerMode mode);
-
-/// One identified star of the fix.
-struct MatchedStar {
-  uint32_t catalog_id = 0;      ///< HIP or HR number (catalog/star_catalog.hpp)
-  Vec2 px = Vec2::Zero();       ///< [px] measured centroid
-  Vec3 v_cam = Vec3::UnitZ();   ///< measured unit vector in the camera frame
-  double residual = 0;          ///< [rad] angle between measured and fitted catalog direction
-  bool operator==(const MatchedStar& o) const {
-    return catalog_id == o.catalog_id && px == o.px && v_cam == o.v_cam && residual == o.residual;
-  }
-};
-
-/// Wall-clock time spent in each stage of the frame [s].
-struct StageTimings {
-  double detect = 0, identify = 0, attitude = 0, total = 0;
-  bool operator==(const StageTimings& o) const {
-    return detect == o.detect && identify == o.identify && attitude == o.attitude &&
-           total == o.total;
-  }
-};
 
 class CObservationStarTracker : public mrpt::obs::CObservation {
   DEFINE_SERIALIZABLE(CObservationStarTracker, st)
 
  public:
-  static constexpr uint8_t kCurrentVersion = 1;
+  static constexpr uint8_t kCurrentVersion = 2;
 
   CObservationStarTracker() = default;
 
   StarTrackerMode mode = StarTrackerMode::kFailed;
+  FrameFailure failure = FrameFailure::kNone;  ///< kNone unless mode == kFailed
   std::string reason;  ///< why it failed, or notes ("" when all went well)
 
   /// Attitude of the body in the inertial frame, v_i = R(q_ib) v_b (conventions.hpp). Only
