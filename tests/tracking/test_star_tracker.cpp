@@ -378,6 +378,22 @@ TEST(StarTracker, MountedCameraReportsTheBodyAttitude) {
   EXPECT_GT(rad2deg(attitudeError(o.q_ib, f.q_ib).total), 45.0);
 }
 
+TEST(StarTracker, ForcedLostInSpaceForgetsTheTrackingState) {
+  const SlewMotion motion(startAttitude(), Vec3(deg2rad(0.3), 0.0, 0.0));
+  FrameSimulator sim(808);
+  StarTracker pipe(test::simDatabase(), test::simCamera(), test::simTrackerOptions());
+  FrameInputs in;
+  in.rate_body = motion.rateBody(0.0);
+  for (int k = 0; k < 3; ++k) {
+    const auto f = sim.frame(motion, 0.1 * k);
+    in.force_lost_in_space = k == 2;
+    const FrameResult o = pipe.process(f.image, f.t_s, in);
+    EXPECT_EQ(o.mode, k == 1 ? StarTrackerMode::kTracking : StarTrackerMode::kLostInSpace)
+        << "frame " << k << ": " << o.detail;
+    EXPECT_EQ(o.prediction, k == 1 ? PredictionSource::kGyro : PredictionSource::kNone);
+  }
+}
+
 TEST(StarTracker, BadOptionsAreInputErrors) {
   TrackerOptions o;
   o.lis_algorithm = "no-such-algorithm";
@@ -387,6 +403,12 @@ TEST(StarTracker, BadOptionsAreInputErrors) {
   EXPECT_THROW(StarTracker(test::simDatabase(), test::simCamera(), o), InputError);
   o = {};
   o.max_failed_frames = 0;
+  EXPECT_THROW(StarTracker(test::simDatabase(), test::simCamera(), o), InputError);
+  o = {};
+  o.R_body_cam(0, 0) = 2.0;  // not a rotation
+  std::string why;
+  EXPECT_FALSE(o.isValid(&why));
+  EXPECT_NE(why.find("R_body_cam"), std::string::npos) << why;
   EXPECT_THROW(StarTracker(test::simDatabase(), test::simCamera(), o), InputError);
 }
 
