@@ -54,17 +54,6 @@ struct LiveArgs {
   bool gui = false;
 };
 
-/// The [filter] / [navigator] sections, read by the reader of tracker.ini.
-NavigatorOptions navigatorOptions(const mrpt::config::CConfigFileBase& cfg,
-                                  const std::string& source, bool* enabled) {
-  const IniReader r{cfg, source};
-  NavigatorOptions o;
-  o.fusion.reorder_window_s = 0.5;  // a fix arrives after its processing time
-  readFusionSections(r, o, {"enabled"});
-  *enabled = r.boolean("navigator", "enabled", true);
-  return o;
-}
-
 /// One live run: the sensors in their threads, the recorder, the navigator, the window.
 class LiveSession {
  public:
@@ -72,7 +61,7 @@ class LiveSession {
               const fs::path& out_path)
       : args_(args), out_path_(out_path), writer_(out_path.string()), recorder_(writer_, nullptr) {
     bool nav_enabled = true;
-    nav_opts_ = navigatorOptions(cfg, args.config, &nav_enabled);
+    nav_opts_ = liveNavigatorOptions(cfg, args.config, &nav_enabled);
     nav_enabled_ = nav_enabled;
     std::vector<SensorSpec> specs = createSensors(cfg, args.config);  // InputError -> exit 2
     for (auto& spec : specs) {

@@ -159,9 +159,10 @@ int run(const SolveOptions& o) {
     return kExitFailure;
   }
 
-  const RaDecRoll rdr = raDecRollFromAttitude(r.q_ib);
-  const AttitudeSigma sig = attitudeSigma(r.cov_body);
-  const Quat q = canonical(r.q_ib);
+  const RaDecRoll rdr = raDecRollFromAttitude(r.q_ic);
+  const AttitudeSigma sig = attitudeSigma(r.cov_cam);
+  // No mounting here: the body frame is the camera frame, so q_ib below is q_ic.
+  const Quat q = canonical(r.q_ic);
   const CameraModel& cam = fs.camera;
   const auto& stars = db.stars();
 
@@ -190,7 +191,7 @@ int run(const SolveOptions& o) {
     js << "\"covariance\": [";
     for (int i = 0; i < 3; ++i) {
       js << (i ? ", [" : "[");
-      for (int j = 0; j < 3; ++j) js << (j ? ", " : "") << jsonNum(r.cov_body(i, j));
+      for (int j = 0; j < 3; ++j) js << (j ? ", " : "") << jsonNum(r.cov_cam(i, j));
       js << "]";
     }
     js << "], ";

@@ -4,25 +4,14 @@
 /// sec. 5.4): for M Monte Carlo runs of a consistent filter, the run-averaged NEES of an
 /// n-state error is chi-square with M*n degrees of freedom divided by M.
 ///
-/// The quantile is exact to ~1e-12 relative: it inverts the regularized lower incomplete
-/// gamma function P(k/2, x/2) (series / Lentz continued fraction, Numerical Recipes 3rd ed.
-/// sec. 6.2) by safeguarded Halley iteration started from Wilson-Hilferty.
+/// The chi-square distribution itself lives in common/chi_square.hpp (one implementation for
+/// the filters, the identification and the tracker).
 #pragma once
 #include <vector>
 
+#include "common/chi_square.hpp"
+
 namespace st {
-
-/// Regularized lower incomplete gamma P(a, x) = gamma(a, x) / Gamma(a), a > 0, x >= 0.
-double regularizedGammaP(double a, double x);
-
-/// Its complement Q(a, x) = 1 - P(a, x), accurate in the upper tail.
-double regularizedGammaQ(double a, double x);
-
-/// CDF of the chi-square distribution with `dof` (> 0, need not be an integer) at x.
-double chiSquareCdf(double x, double dof);
-
-/// Quantile: the x with chiSquareCdf(x, dof) = p, for p in (0, 1).
-double chiSquareQuantile(double p, double dof);
 
 /// Two-sided probability band [lo, hi] of a statistic.
 struct ChiSquareBand {

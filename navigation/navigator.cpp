@@ -18,16 +18,8 @@ namespace st {
 
 namespace {
 
-Mat3 rotationOf(const mrpt::poses::CPose3D& pose) {
-  const auto& R = pose.getRotationMatrix();
-  Mat3 out;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out(r, c) = R(r, c);
-  return out;
-}
-
 FusionOptions withCameraMounting(FusionOptions f, const PipelineOptions& p) {
-  f.R_body_camera = rotationOf(p.sensor_pose);
+  f.R_body_camera = p.trackerOptions().R_body_cam;
   return f;
 }
 
@@ -47,6 +39,7 @@ std::string fmtTime(double t) {
 FrameResult frameResultOf(const CObservationStarTracker& o) {
   FrameResult r;
   r.mode = o.mode;
+  r.failure = o.failure;
   r.detail = o.reason;
   r.q_ib = o.q_ib;
   r.cov_body = o.cov_body;
@@ -72,14 +65,7 @@ FusionLoop::StarDirection starDirections(const StarDatabase& db) {
 }  // namespace
 
 bool NavigatorOptions::isValid(std::string* why) const {
-  if (!fusion.isValid(why)) return false;
-  try {
-    pipeline.validate();
-  } catch (const InputError& e) {
-    if (why) *why = e.what();
-    return false;
-  }
-  return true;
+  return fusion.isValid(why) && pipeline.trackerOptions().isValid(why);
 }
 
 Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options,
@@ -89,7 +75,7 @@ Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, Navigato
       source_(source),
       loop_(validatedFusion(opts_), starDirections(db)) {
   if (source_ == Source::kCameraFrames) {
-    pipeline_ = std::make_unique<StarTrackerPipeline>(db, camera, opts_.pipeline);
+    tracker_ = std::make_unique<StarTracker>(db, camera, opts_.pipeline.trackerOptions());
     loop_.setFrameProcessor(
         [this](uint64_t tag, double t, const FrameInputs& in) { return processFrame(tag, t, in); });
   }
@@ -175,35 +161,35 @@ FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& i
   ST_ASSERT(it != held_.end());
   auto& io = static_cast<mrpt::obs::CObservationImage&>(*it->second);
   FrameResult failed;
-  failed.failure = FrameFailure::kDetection;
+  failed.failure = FrameFailure::kNoImage;
+  auto skipped = [&](const std::string& why) {
+    failed.detail = why;
+    warn("CAMERA observation at " + fmtTime(t) + ": " + why + ": frame skipped");
+    frame_obs_ = observationOf(failed, io.timestamp);
+    return failed;
+  };
   cv::Mat image;
   try {
     io.image.forceLoad();
     image = io.image.asCvMatRef();
   } catch (const std::exception& e) {
-    failed.detail = "image cannot be loaded (" + std::string(e.what()).substr(0, 200) + ")";
-    warn("CAMERA image at " + fmtTime(t) + " cannot be loaded: frame skipped");
-    return failed;
+    return skipped("the image cannot be loaded (" + std::string(e.what()).substr(0, 200) + ")");
   }
-  if (image.empty()) {
-    failed.detail = "empty image";
-    warn("CAMERA observation at " + fmtTime(t) + " has an empty image: frame skipped");
-    return failed;
-  }
+  if (image.empty()) return skipped("empty image");
   if (image.channels() == 3) {
     cv::Mat grey;
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
     image = grey;
   }
-  if (in.force_lost_in_space) pipeline_->reset();
-  if (in.prediction) {
-    pipeline_->setPrediction(*in.prediction);
-  } else if (in.rate_body) {
-    pipeline_->setGyroRate(*in.rate_body);
-  }
-  frame_obs_ = pipeline_->process(image, io.timestamp);
+  FrameResult r = tracker_->process(image, t, in);
   if (io.image.isExternallyStored()) io.image.unload();
-  return frameResultOf(*frame_obs_);
+  frame_obs_ = observationOf(r, io.timestamp);
+  return r;
+}
+
+CObservationStarTracker::Ptr Navigator::observationOf(const FrameResult& r,
+                                                      mrpt::Clock::time_point t) const {
+  return observationFromFrame(r, t, opts_.pipeline.sensor_label, opts_.pipeline.sensor_pose);
 }
 
 void Navigator::onStep(const FusionStep& fs) {

@@ -33,7 +33,8 @@
 #include "navigation/nav_step.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
-#include "sensors/mrpt/star_tracker_pipeline.hpp"
+#include "sensors/mrpt/observation_from_frame.hpp"
+#include "sensors/tracking/star_tracker.hpp"
 
 namespace st {
 
@@ -89,6 +90,7 @@ class Navigator {
   enum Kind { kGyro, kCamera, kFix, kTruth, kOther };
   Kind kindOf(const mrpt::obs::CObservation& obs) const;
   FrameResult processFrame(uint64_t tag, double t, const FrameInputs& in);
+  CObservationStarTracker::Ptr observationOf(const FrameResult& r, mrpt::Clock::time_point t) const;
   void onStep(const FusionStep& s);
   void finishPending();
   void warn(const std::string& msg);
@@ -96,7 +98,7 @@ class Navigator {
   const StarDatabase& db_;
   NavigatorOptions opts_;
   Source source_;
-  std::unique_ptr<StarTrackerPipeline> pipeline_;
+  std::unique_ptr<StarTracker> tracker_;
   FusionLoop loop_;
   std::vector<std::string> own_warnings_;
   mutable std::vector<std::string> all_warnings_;

@@ -58,6 +58,16 @@ void readFusionSections(const IniReader& r, NavigatorOptions& n,
   if (!f.isValid(&why)) throw InputError(r.where("navigator") + ": " + why);
 }
 
+NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
+                                      const std::string& source, bool* enabled) {
+  const IniReader r{cfg, source};
+  NavigatorOptions o;
+  o.fusion.reorder_window_s = 0.5;
+  readFusionSections(r, o, {"enabled"});
+  *enabled = r.boolean("navigator", "enabled", true);
+  return o;
+}
+
 TrackerConfig TrackerConfig::load(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw InputError(path + ": tracker config not found");

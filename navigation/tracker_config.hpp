@@ -55,6 +55,11 @@ struct TrackerConfig {
 void readFusionSections(const IniReader& r, NavigatorOptions& n,
                         const std::set<std::string>& extra_navigator_keys);
 
+/// The live app's [filter] / [navigator] (tracker.ini's reader, plus `enabled`; the reorder
+/// window defaults to 0.5 s there: a fix arrives after its processing time).
+NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
+                                      const std::string& source, bool* enabled);
+
 /// Builds (or loads) the database of `src` for a camera; `data_epoch_jyear` is used when the
 /// source gives none. Throws InputError naming the file for a bad database/catalog.
 StarDatabase makeDatabase(const DatabaseSource& src, const CameraModel& camera,

@@ -8,7 +8,7 @@
 // of the trial seed, and every algorithm sees the same scene (paired comparison).
 //
 // A solved trial is a FALSE ID when its attitude error exceeds
-//   max(10 * sigma_total, 1 arcmin),  sigma_total = sqrt(trace(cov_body)),
+//   max(10 * sigma_total, 1 arcmin),  sigma_total = sqrt(trace(cov_cam)),
 // i.e. the reported covariance does not cover the error by a wide margin: a correct solution
 // has NEES ~ chi-square(3), so 10 sigma is never reached by chance.
 #include <algorithm>
@@ -120,8 +120,8 @@ class LisRobustness : public Experiment {
                        toString(r.status), std::to_string(r.matches.size()),
                        r.solved() ? "1" : "0"};
             if (r.solved()) {
-              const AttitudeError err = attitudeError(r.q_ib, q);
-              const double sigma = std::sqrt(std::max(0.0, r.cov_body.trace()));
+              const AttitudeError err = attitudeError(r.q_ic, q);
+              const double sigma = std::sqrt(std::max(0.0, r.cov_cam.trace()));
               const bool false_id =
                   err.total > std::max(kFalseIdSigmas * sigma, arcsec2rad(kFalseIdFloorArcsec));
               int wrong = 0;
@@ -131,7 +131,7 @@ class LisRobustness : public Experiment {
                          {false_id ? "1" : "0", std::to_string(wrong),
                           fmt(rad2arcsec(err.cross_boresight), 6), fmt(rad2arcsec(err.roll), 6),
                           fmt(rad2arcsec(err.total), 6), fmt(rad2arcsec(sigma), 6),
-                          fmt(attitudeNees(r.q_ib, r.cov_body, q), 6)});
+                          fmt(attitudeNees(r.q_ic, r.cov_cam, q), 6)});
             } else {
               row.insert(row.end(), {"0", "0", "nan", "nan", "nan", "nan", "nan"});
             }

@@ -16,12 +16,12 @@ std::vector<double> fovSearchGrid(double min_hfov, double max_hfov, double s) {
 CameraModel fitFocalLength(const CameraModel& cam, const std::vector<StarObservation>& obs,
                            const IdentifyResult& r, const StarDatabase& db) {
   if (r.matches.size() < 3) return cam;
-  const Mat3 r_bi = r.q_ib.toRotationMatrix().transpose();
+  const Mat3 R_ci = r.q_ic.toRotationMatrix().transpose();
   const double a = cam.fy() / cam.fx();
   // p - c = f * (xn, a*yn)  =>  f = sum (p-c).(xn, a yn) / sum |(xn, a yn)|^2
   double num = 0, den = 0;
   for (const StarMatch& m : r.matches) {
-    const Vec3 v = r_bi * db.stars()[m.star_index].u_i;
+    const Vec3 v = R_ci * db.stars()[m.star_index].u_i;
     const Vec2 xn(v.x() / v.z(), a * v.y() / v.z());
     const Vec2 d = obs[m.obs_index].px - Vec2(cam.cx(), cam.cy());
     num += d.dot(xn);

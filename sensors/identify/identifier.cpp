@@ -202,8 +202,8 @@ IdentifyResult StarIdentifier::finishResult(SearchContext& ctx, IdentifyResult r
     res.reason = "no catalog pattern matches the " + std::to_string(ctx.n) + " brightest stars";
   }
   if (ctx.any_hypothesis) {
-    res.q_ib = v.q_ib;
-    res.cov_body = v.cov_body;
+    res.q_ic = v.q_ic;
+    res.cov_cam = v.cov_cam;
     res.matches = v.matches;
     res.false_match_probability = v.false_match_probability;
     res.rms_residual = v.rms_residual;

@@ -55,8 +55,9 @@ struct IdentifyResult {
   IdentifyStatus status = IdentifyStatus::NoMatch;
   std::string reason;                  ///< empty when solved
   std::string algorithm;
-  Quat q_ib = Quat::Identity();
-  Mat3 cov_body = Mat3::Zero();        ///< [rad^2] body frame (conventions.hpp)
+  /// The camera's attitude, v_i = R(q_ic) v_cam (identification sees camera-frame vectors).
+  Quat q_ic = Quat::Identity();
+  Mat3 cov_cam = Mat3::Zero();         ///< [rad^2] camera frame (conventions.hpp)
   std::vector<StarMatch> matches;      ///< sorted by observation index
   double false_match_probability = 1;  ///< of the accepted (or best rejected) hypothesis
   double rms_residual = 0;             ///< [rad]

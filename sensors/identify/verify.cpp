@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common/conventions.hpp"
+#include "sensors/attitude/drop_worst.hpp"
 
 namespace st {
 
@@ -21,17 +22,6 @@ double binomialUpperTail(int n, int m, double p) {
     sum += std::exp(log_term);
   }
   return std::min(1.0, sum);
-}
-
-double chiSquareUpperTail(double x, int k) {
-  if (k < 1) return 1.0;
-  if (!(x > 0)) return 1.0;
-  const double h = x / 2;
-  // Start from k = 1 or 2 and climb by two (recurrence in verify.hpp), terms in logs.
-  int j = (k % 2) ? 1 : 2;
-  double q = (k % 2) ? std::erfc(std::sqrt(h)) : std::exp(-h);
-  for (; j < k; j += 2) q += std::exp(0.5 * j * std::log(h) - h - std::lgamma(0.5 * j + 1.0));
-  return std::min(1.0, std::max(0.0, q));
 }
 
 Verifier::Verifier(const StarDatabase& db, const CameraModel& camera, const WahbaSolver& solver,
@@ -52,47 +42,45 @@ VerificationResult Verifier::verifySeeds(const std::vector<StarObservation>& obs
   const auto& stars = db_.stars();
   for (const StarMatch& s : seeds)
     vo.push_back({obs[s.obs_index].v_cam, stars[s.star_index].u_i, obs[s.obs_index].sigma});
-  WahbaSolution sol;
+  WahbaSolution sol = solver_.solve(vo);
   // A seed set may hold a wrong pairing (a spike that fitted by chance): drop the seed with
   // the largest normalised residual while it is outside the gate, then re-solve.
-  for (;;) {
-    sol = solver_.solve(vo);
-    if (!sol.ok) {
-      res.reason = "attitude from the seed stars failed: " + sol.reason;
-      return res;
-    }
-    if (vo.size() <= 3) break;
-    const Mat3 r_bi = sol.q_ib.toRotationMatrix().transpose();
+  const auto judge = [&]() -> DropWorstVerdict {
+    if (vo.size() <= 3) return {true, 0};
+    const Mat3 R_ci = sol.q_ib.toRotationMatrix().transpose();
     std::size_t worst = 0;
     double worst_z = 0;
     for (std::size_t k = 0; k < vo.size(); ++k) {
-      const double z = (vo[k].b - r_bi * vo[k].r).norm() / vo[k].sigma;
+      const double z = (vo[k].b - R_ci * vo[k].r).norm() / vo[k].sigma;
       if (z > worst_z) worst_z = z, worst = k;
     }
-    if (worst_z <= options_.gate_sigma) break;
-    vo.erase(vo.begin() + worst);
+    return {worst_z <= options_.gate_sigma, worst};
+  };
+  const auto drop_and_resolve = [&](std::size_t worst) {
+    vo.erase(vo.begin() + static_cast<long>(worst));
+    sol = solver_.solve(vo);
+    return sol.ok;
+  };
+  if (!sol.ok || dropWorstWhileFailing(vo.size(), 0, judge, drop_and_resolve) ==
+                     DropWorstOutcome::kSolverFailed) {
+    res.reason = "attitude from the seed stars failed: " + sol.reason;
+    return res;
   }
   // Two stars fix an attitude: they match under any hypothesis and are no evidence.
   return refine(obs, sol.q_ib, sol.cov_body, attitudes_examined,
                 std::min<int>(2, static_cast<int>(seeds.size())));
 }
 
-VerificationResult Verifier::verifyAttitude(const std::vector<StarObservation>& obs,
-                                            const Quat& q_ib, const Mat3& cov_body,
-                                            double attitudes_examined, int free_matches) const {
-  return refine(obs, q_ib, cov_body, attitudes_examined, free_matches);
-}
-
 namespace {
 struct Predicted {
   uint32_t star;
-  Vec3 v_b;
+  Vec3 v_c;  // predicted direction, camera frame
   double var_att;  // [rad^2] per-axis variance of the direction from the attitude covariance
 };
 }  // namespace
 
-VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Quat q_ib,
-                                    Mat3 cov_body, double attitudes_examined,
+VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Quat q_ic,
+                                    Mat3 cov_cam, double attitudes_examined,
                                     int free_matches) const {
   VerificationResult res;
   const auto& stars = db_.stars();
@@ -107,26 +95,26 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   const double min_gate = options_.min_gate_px * camera_.pixelScale();
   WahbaSolution sol;
   sol.ok = true;
-  sol.q_ib = q_ib;
-  sol.cov_body = cov_body;
+  sol.q_ib = q_ic;  // WahbaSolution is frame-agnostic: here the camera's attitude
+  sol.cov_body = cov_cam;
   bool residual_failed = false;
 
   // Mutual nearest neighbours inside the gates at the attitude `sol` (excluded observations
   // take no part); fills pred, best_pred, best_obs, gate_rad/cos and matches.
   auto match = [&]() {
-    const Mat3 r_ib = sol.q_ib.toRotationMatrix();
-    const Mat3 r_bi = r_ib.transpose();
+    const Mat3 R_ic = sol.q_ib.toRotationMatrix();
+    const Mat3 R_ci = R_ic.transpose();
     const Mat3 p = sol.cov_body;
     cone.clear();
-    db_.coneQuery(r_ib.col(2), cone_radius_, cone);
+    db_.coneQuery(R_ic.col(2), cone_radius_, cone);
     pred.clear();
     for (uint32_t s : cone) {
-      const Vec3 v_b = r_bi * stars[s].u_i;
-      if (v_b.z() <= 0 || !camera_.isVectorInImage(v_b, options_.edge_margin_px)) continue;
-      // Direction error from a body-frame rotation error dtheta is dtheta x v_b (eq. of
+      const Vec3 v_c = R_ci * stars[s].u_i;
+      if (v_c.z() <= 0 || !camera_.isVectorInImage(v_c, options_.edge_margin_px)) continue;
+      // Direction error from a camera-frame rotation error dtheta is dtheta x v_c (eq. of
       // the linearised rotation); its per-axis variance is (tr P - v^T P v) / 2.
-      const double var_att = std::max(0.0, (p.trace() - v_b.dot(p * v_b)) / 2.0);
-      pred.push_back({s, v_b, var_att});
+      const double var_att = std::max(0.0, (p.trace() - v_c.dot(p * v_c)) / 2.0);
+      pred.push_back({s, v_c, var_att});
     }
     // Nearest predicted star of every observation, and its gate.
     const int n_pred = static_cast<int>(pred.size());
@@ -137,7 +125,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       best_dot[k] = -2.0;
       const Vec3& v = obs[k].v_cam;
       for (int j = 0; j < n_pred; ++j) {
-        const double d = v.dot(pred[j].v_b);
+        const double d = v.dot(pred[j].v_c);
         if (d > best_dot[k]) best_dot[k] = d, best_pred[k] = j;
         if (!excluded[k] && d > best_obs_dot[j]) best_obs_dot[j] = d, best_obs[j] = k;
       }
@@ -157,7 +145,7 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       if (excluded[k]) continue;
       const Vec3& v = obs[k].v_cam;
       for (int j = 0; j < n_pred; ++j)
-        if (v.dot(pred[j].v_b) >= gate_cos[k]) ++in_gate_obs[k], ++in_gate_pred[j];
+        if (v.dot(pred[j].v_c) >= gate_cos[k]) ++in_gate_obs[k], ++in_gate_pred[j];
     }
     matches.clear();
     std::fill(ambiguous.begin(), ambiguous.end(), 0);
@@ -230,9 +218,9 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
       // the observation, no other observation near the predicted star.
       bool unique = true;
       for (int jj = 0; jj < n_pred && unique; ++jj)
-        if (jj != j && obs[k].v_cam.dot(pred[jj].v_b) >= std::cos(r)) unique = false;
+        if (jj != j && obs[k].v_cam.dot(pred[jj].v_c) >= std::cos(r)) unique = false;
       for (int kk = 0; kk < n_obs && unique; ++kk)
-        if (kk != k && !excluded[kk] && obs[kk].v_cam.dot(pred[j].v_b) >= std::cos(r))
+        if (kk != k && !excluded[kk] && obs[kk].v_cam.dot(pred[j].v_c) >= std::cos(r))
           unique = false;
       if (unique) near.push_back({k, j});
     }
@@ -249,7 +237,8 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
     return solver_.solve(vo);
   };
   bool rematch = true, settled = false;
-  for (int guard = 0; guard < 3 * n_obs + 10 && !settled; ++guard) {
+  const int guard_limit = 3 * n_obs + 10;
+  for (int guard = 0; guard < guard_limit && !settled; ++guard) {
     const bool fresh = rematch;
     rematch = false;
     if (fresh) {
@@ -270,41 +259,47 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
         prev = matches;
       }
     }
-    // Residual test: 2 * loss ~ chi-square(2n - 3) (wahba.hpp, seed 004 eq. 6.18).
+    // Residual test: 2 * loss ~ chi-square(2n - 3) (wahba.hpp, seed 004 eq. 6.18); while it
+    // fails, the worst star is excluded for good and the rest re-solved.
     const int nm = static_cast<int>(matches.size());
     if (nm < 2) break;
-    const Mat3 r_bi = sol.q_ib.toRotationMatrix().transpose();
-    double chi2 = 0, worst_z2 = -1;
-    std::size_t worst = 0;
-    for (std::size_t i = 0; i < matches.size(); ++i) {
-      const StarMatch& m = matches[i];
-      const Vec3& b = obs[m.obs_index].v_cam;
-      const double z2 = (b - r_bi * stars[m.star_index].u_i).squaredNorm() /
-                        (obs[m.obs_index].sigma * obs[m.obs_index].sigma);
-      chi2 += z2;
-      if (z2 > worst_z2) worst_z2 = z2, worst = i;
-    }
-    res.chi2 = chi2;
-    if (residual_test && nm >= 3 &&
-        chiSquareUpperTail(chi2, 2 * nm - 3) < options_.residual_alpha) {
-      if (nm - 1 < std::max(3, options_.min_matches)) {
-        residual_failed = true;
-        break;
+    const auto judge = [&]() -> DropWorstVerdict {
+      const Mat3 R_ci = sol.q_ib.toRotationMatrix().transpose();
+      double chi2 = 0, worst_z2 = -1;
+      std::size_t worst = 0;
+      for (std::size_t i = 0; i < matches.size(); ++i) {
+        const StarMatch& m = matches[i];
+        const Vec3& b = obs[m.obs_index].v_cam;
+        const double z2 = (b - R_ci * stars[m.star_index].u_i).squaredNorm() /
+                          (obs[m.obs_index].sigma * obs[m.obs_index].sigma);
+        chi2 += z2;
+        if (z2 > worst_z2) worst_z2 = z2, worst = i;
       }
-      // Exclude the worst star for good and re-solve without it.
+      res.chi2 = chi2;
+      const int n = static_cast<int>(matches.size());
+      return {!(residual_test && n >= 3 &&
+                chiSquareUpperTail(chi2, 2 * n - 3) < options_.residual_alpha),
+              worst};
+    };
+    int dropped = 0;
+    const auto drop_and_resolve = [&](std::size_t worst) {
       excluded[matches[worst].obs_index] = 1;
       matches.erase(matches.begin() + static_cast<long>(worst));
       ++res.outliers_removed;
+      ++dropped;
       const WahbaSolution next = solveMatches({});
-      if (!next.ok) {
-        residual_failed = true;
-        break;
-      }
+      if (!next.ok) return false;
       sol = next;
-      continue;
+      return ++guard < guard_limit;  // each re-solve is one round of the guard
+    };
+    const std::size_t min_keep = static_cast<std::size_t>(std::max(3, options_.min_matches));
+    if (dropWorstWhileFailing(matches.size(), min_keep, judge, drop_and_resolve) !=
+        DropWorstOutcome::kAccepted) {
+      residual_failed = true;
+      break;
     }
     // The set was edited (outliers out, near misses in): match again at the new attitude.
-    if (!fresh) {
+    if (dropped > 0 || !fresh) {
       rematch = true;
       continue;
     }
@@ -333,13 +328,13 @@ VerificationResult Verifier::refine(const std::vector<StarObservation>& obs, Qua
   if (!settled && !residual_failed && matches.size() >= 2 && residual_test)
     residual_failed = true;  // never settled: do not trust it
 
-  res.q_ib = canonical(sol.q_ib);
-  res.cov_body = sol.cov_body;
+  res.q_ic = canonical(sol.q_ib);
+  res.cov_cam = sol.cov_body;
   // Residuals against the final attitude.
-  const Mat3 r_bi = res.q_ib.toRotationMatrix().transpose();
+  const Mat3 R_ci = res.q_ic.toRotationMatrix().transpose();
   double sum2 = 0, sum2_px = 0;
   for (StarMatch& m : matches) {
-    const Vec3 v_pred = r_bi * stars[m.star_index].u_i;
+    const Vec3 v_pred = R_ci * stars[m.star_index].u_i;
     const Vec3& v = obs[m.obs_index].v_cam;
     m.residual = std::atan2(v.cross(v_pred).norm(), v.dot(v_pred));
     const auto px = camera_.vectorToPixel(v_pred);

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "catalog/star_database.hpp"
+#include "common/chi_square.hpp"
 #include "sensors/attitude/wahba.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/identify/star_match.hpp"
@@ -70,8 +71,8 @@ struct VerifyOptions {
 struct VerificationResult {
   bool accepted = false;
   std::string reason;           ///< why it was rejected (empty when accepted)
-  Quat q_ib = Quat::Identity();
-  Mat3 cov_body = Mat3::Zero();
+  Quat q_ic = Quat::Identity();   ///< camera attitude, v_i = R(q_ic) v_cam
+  Mat3 cov_cam = Mat3::Zero();    ///< [rad^2] camera frame
   std::vector<StarMatch> matches;  ///< sorted by observation index
   double false_match_probability = 1.0;
   double rms_residual = 0;      ///< [rad]
@@ -94,17 +95,10 @@ class Verifier {
                                  const std::vector<StarMatch>& seeds,
                                  double attitudes_examined) const;
 
-  /// Verifies a prior attitude (e.g. a propagated one while tracking) with its body-frame
-  /// covariance; `free_matches` observations are treated as fitted by construction (0 for an
-  /// independent prior).
-  VerificationResult verifyAttitude(const std::vector<StarObservation>& obs, const Quat& q_ib,
-                                    const Mat3& cov_body, double attitudes_examined,
-                                    int free_matches = 0) const;
-
   const VerifyOptions& options() const { return options_; }
 
  private:
-  VerificationResult refine(const std::vector<StarObservation>& obs, Quat q_ib, Mat3 cov_body,
+  VerificationResult refine(const std::vector<StarObservation>& obs, Quat q_ic, Mat3 cov_cam,
                             double attitudes_examined, int free_matches) const;
 
   const StarDatabase& db_;
@@ -117,10 +111,5 @@ class Verifier {
 
 /// Upper tail of the binomial distribution P(X >= m), X ~ Binomial(n, p).
 double binomialUpperTail(int n, int m, double p);
-
-/// Upper tail of the chi-square distribution P(X > x), X ~ chi-square(k), k >= 1 (exact for
-/// integer k: Q(1, x) = erfc(sqrt(x/2)), Q(2, x) = exp(-x/2) and the recurrence
-/// Q(k+2, x) = Q(k, x) + (x/2)^(k/2) exp(-x/2) / Gamma(k/2 + 1)).
-double chiSquareUpperTail(double x, int k);
 
 }  // namespace st

@@ -15,18 +15,6 @@ namespace st {
 
 IMPLEMENTS_SERIALIZABLE(CObservationStarTracker, mrpt::obs::CObservation, st)
 
-const char* toString(StarTrackerMode mode) {
-  switch (mode) {
-    case StarTrackerMode::kLostInSpace:
-      return "lost-in-space";
-    case StarTrackerMode::kTracking:
-      return "tracking";
-    case StarTrackerMode::kFailed:
-      return "failed";
-  }
-  return "unknown";
-}
-
 void CObservationStarTracker::setWriteVersion(uint8_t v) {
   if (v > kCurrentVersion) {
     throw std::invalid_argument("CObservationStarTracker: no serialization version " +
@@ -68,13 +56,15 @@ void CObservationStarTracker::serializeTo(mrpt::serialization::CArchive& out) co
   }
   out << num_blobs;
   if (version >= 1) out << timings.detect << timings.identify << timings.attitude << timings.total;
+  if (version >= 2) out << static_cast<uint8_t>(failure);
 }
 
 void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
                                             uint8_t version) {
   switch (version) {
     case 0:
-    case 1: {
+    case 1:
+    case 2: {
       in >> timestamp >> sensorLabel;
       mrpt::math::CVectorFixedDouble<12> pose12;
       readVec(in, &pose12[0], 12);
@@ -103,6 +93,16 @@ void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
       if (version >= 1) {
         in >> timings.detect >> timings.identify >> timings.attitude >> timings.total;
       }
+      if (version >= 2) {
+        uint8_t f = 0;
+        in >> f;
+        if (f > static_cast<uint8_t>(FrameFailure::kLast)) {
+          THROW_EXCEPTION_FMT("CObservationStarTracker: bad failure value %u", unsigned(f));
+        }
+        failure = static_cast<FrameFailure>(f);
+      } else {
+        failure = hasAttitude() ? FrameFailure::kNone : FrameFailure::kUnknown;
+      }
       // A read object is written back in the layout it came in, so copies stay bit-exact.
       write_version_ = version;
     } break;
@@ -115,7 +115,8 @@ bool CObservationStarTracker::sameContent(const CObservationStarTracker& o) cons
   return timestamp == o.timestamp && sensorLabel == o.sensorLabel &&
          sensor_pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>() ==
              o.sensor_pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>() &&
-         mode == o.mode && reason == o.reason && q_ib.coeffs() == o.q_ib.coeffs() &&
+         mode == o.mode && failure == o.failure && reason == o.reason &&
+         q_ib.coeffs() == o.q_ib.coeffs() &&
          cov_body == o.cov_body && stars == o.stars && num_blobs == o.num_blobs &&
          timings == o.timings;
 }
@@ -126,6 +127,7 @@ void CObservationStarTracker::getDescriptionAsText(std::ostream& o) const {
   const auto prec = o.precision();
   o << "Sensor pose on the vehicle (x y z yaw pitch roll [m, deg]): " << sensor_pose << "\n";
   o << "Mode: " << toString(mode) << "\n";
+  if (!hasAttitude()) o << "Failure: " << toString(failure) << "\n";
   o << "Reason: " << (reason.empty() ? "(none)" : reason) << "\n";
   if (hasAttitude()) {
     o << std::setprecision(12);

@@ -10,6 +10,11 @@
 /// for an older layout with setWriteVersion):
 ///   0: timestamp, label, sensor pose, mode, reason, q_ib, covariance, stars, blobs
 ///   1: + per-stage timings (version-0 objects read with timings = 0)
+///   2: + failure (FrameFailure, uint8); older objects read with failure = kNone for a fix
+///      and kUnknown for a failed frame (their kind was not recorded)
+///
+/// Mode, failure, MatchedStar and StageTimings are the tracking stage's
+/// (sensors/tracking/frame.hpp); observation_from_frame.hpp converts a FrameResult.
 #pragma once
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/poses/CPose3D.h>
@@ -28,11 +33,12 @@ class CObservationStarTracker : public mrpt::obs::CObservation {
   DEFINE_SERIALIZABLE(CObservationStarTracker, st)
 
  public:
-  static constexpr uint8_t kCurrentVersion = 1;
+  static constexpr uint8_t kCurrentVersion = 2;
 
   CObservationStarTracker() = default;
 
   StarTrackerMode mode = StarTrackerMode::kFailed;
+  FrameFailure failure = FrameFailure::kNone;  ///< kNone unless mode == kFailed
   std::string reason;  ///< why it failed, or notes ("" when all went well)
 
   /// Attitude of the body in the inertial frame, v_i = R(q_ib) v_b (conventions.hpp). Only

@@ -18,8 +18,7 @@ const std::set<std::string>& pipelineIniKeys() {
   return keys;
 }
 
-void readPipelineOptions(const IniReader& r, const std::string& sec, PipelineOptions& o) {
-  o.sensor_label = r.str(sec, "sensor_label", o.sensor_label);
+void readTrackerOptions(const IniReader& r, const std::string& sec, TrackerOptions& o) {
   o.exposure_s = r.num(sec, "exposure_s", o.exposure_s);
   // lost-in-space
   o.lis_algorithm = r.str(sec, "lis_algorithm", o.lis_algorithm);
@@ -54,11 +53,7 @@ void readPipelineOptions(const IniReader& r, const std::string& sec, PipelineOpt
   d.reject_spikes = r.boolean(sec, "reject_spikes", d.reject_spikes);
   d.max_stars = r.integer(sec, "max_stars", d.max_stars);
 
-  try {
-    o.validate();
-  } catch (const InputError& e) {
-    throw InputError(r.where(sec) + ": " + e.what());
-  }
+  // The name checks first: they name their own key.
   std::string err;
   if (!StarIdentifier::create(o.lis_algorithm, o.identify, &err))
     throw InputError(r.where(sec, "lis_algorithm") + " = '" + o.lis_algorithm + "': " + err);
@@ -68,6 +63,12 @@ void readPipelineOptions(const IniReader& r, const std::string& sec, PipelineOpt
     throw InputError(r.where(sec, "identify_solver") + " = '" + o.identify.solver + "': " +
                      err);
   }
+  if (!o.isValid(&err)) throw InputError(r.where(sec) + ": star tracker " + err);
+}
+
+void readPipelineOptions(const IniReader& r, const std::string& sec, PipelineOptions& o) {
+  o.sensor_label = r.str(sec, "sensor_label", o.sensor_label);
+  readTrackerOptions(r, sec, o.tracker);
 }
 
 }  // namespace st

@@ -5,6 +5,7 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/system/filesystem.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
@@ -139,10 +140,14 @@ void CStarTrackerSensor::initialize() {
   PipelineOptions o = opts_;
   o.sensor_label = m_sensorLabel;
   if (scenario) {  // the detector's noise model must match the simulated sensor
-    if (!has_exposure_) o.exposure_s = scenario->sensor.exposure_s;
-    if (!has_gain_) o.detect.gain_e_per_adu = scenario->sensor.gain();
-    if (!has_read_noise_) o.detect.read_noise_adu = scenario->sensor.read_noise_e / scenario->sensor.gain();
+    TrackerOptions& t = o.tracker;
+    if (!has_exposure_) t.exposure_s = scenario->sensor.exposure_s;
+    if (!has_gain_) t.detect.gain_e_per_adu = scenario->sensor.gain();
+    if (!has_read_noise_) {
+      t.detect.read_noise_adu = scenario->sensor.read_noise_e / scenario->sensor.gain();
+    }
   }
+  opts_ = o;
 
   // Star database: a file, or built in memory for this camera.
   try {
@@ -163,7 +168,7 @@ void CStarTrackerSensor::initialize() {
           catalog_file_.empty() ? StarDatabase::defaultCatalogPath() : catalog_file_;
       db_ = std::make_shared<const StarDatabase>(StarDatabase::build(loadCatalog(cat), p));
     }
-    pipeline_ = std::make_unique<StarTrackerPipeline>(*db_, camera_, o);
+    tracker_ = std::make_unique<StarTracker>(*db_, camera_, o.trackerOptions());
   } catch (const InputError& e) {
     throw InputError("section '" + s + "': " + e.what());
   }
@@ -177,19 +182,9 @@ bool CStarTrackerSensor::sourceFinished() const {
   return sim && sim->finished();
 }
 
-void CStarTrackerSensor::setPrediction(const AttitudePrediction& prediction) {
+void CStarTrackerSensor::setInputsProvider(InputsProvider provider) {
   std::lock_guard<std::mutex> lock(mutex_);
-  prediction_ = prediction;
-}
-
-void CStarTrackerSensor::setPredictor(Predictor predictor) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  predictor_ = std::move(predictor);
-}
-
-void CStarTrackerSensor::setGyroRate(const Vec3& rate_body) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  gyro_rate_ = rate_body;
+  provider_ = std::move(provider);
 }
 
 CObservationStarTracker::Ptr CStarTrackerSensor::lastObservation() const {
@@ -203,7 +198,7 @@ cv::Mat CStarTrackerSensor::lastImage() const {
 }
 
 void CStarTrackerSensor::doProcess() {
-  if (!source_ || !pipeline_) return;
+  if (!source_ || !tracker_) return;
   source_->doProcess();
   TListObservations in;
   source_->getObservations(in);
@@ -239,22 +234,17 @@ void CStarTrackerSensor::processFrame(const mrpt::obs::CObservation& image_obs,
                                       const cv::Mat& image,
                                       std::vector<mrpt::serialization::CSerializable::Ptr>& out) {
   const mrpt::Clock::time_point t = image_obs.timestamp;
-  Predictor predictor;
-  std::optional<AttitudePrediction> pred;
-  std::optional<Vec3> rate;
+  InputsProvider provider;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    predictor = predictor_;
-    pred.swap(prediction_);
-    rate.swap(gyro_rate_);
+    provider = provider_;
   }
-  if (predictor) {  // called without our lock: it may take the caller's
-    if (auto p = predictor(t)) pred = p;
-  }
-  if (pred) pipeline_->setPrediction(*pred);
-  if (rate) pipeline_->setGyroRate(*rate);
-  auto obs = pipeline_->process(image, t);
-  obs->sensorLabel = m_sensorLabel;
+  // Called without our lock: it may take the caller's.
+  const FrameInputs inputs = provider ? provider(t) : FrameInputs{};
+  if (!first_frame_) first_frame_ = t;
+  const double t_s = std::chrono::duration<double>(t - *first_frame_).count();
+  const FrameResult frame = tracker_->process(image, t_s, inputs);
+  auto obs = observationFromFrame(frame, t, m_sensorLabel, opts_.sensor_pose);
   ++frames_;
   if (obs->hasAttitude()) ++solved_;
   if (obs->mode == StarTrackerMode::kTracking) ++tracking_;

@@ -2,9 +2,9 @@
 /// `st::CStarTrackerSensor`: the star tracker as an MRPT sensor (CGenericSensor), so that
 /// rawlog-grabber (with the startracker_mrpt plugin) and `startracker live` run it like any
 /// other MRPT sensor. Each doProcess() polls an inner image source (an MRPT CCameraSensor or
-/// the simulated star camera), runs the StarTrackerPipeline on every new frame and emits one
-/// CObservationStarTracker per frame (label = sensorLabel, default STAR_TRACKER), plus the
-/// frame itself (CObservationImage, optional) and whatever else the source emits (the
+/// the simulated star camera), runs the StarTracker (sensors/tracking/) on every new frame and
+/// emits one CObservationStarTracker per frame (label = sensorLabel, default STAR_TRACKER),
+/// plus the frame itself (CObservationImage, optional) and whatever else the source emits (the
 /// simulated camera's GROUND_TRUTH).
 ///
 /// .ini section (besides CGenericSensor's process_rate [required], sensorLabel, ...):
@@ -26,7 +26,7 @@
 ///   catalog_file  = path          (default StarDatabase::defaultCatalogPath()) with
 ///   mag_limit = 6.5, epoch_jyear (default: the scenario's epoch, else required),
 ///   aberration = true
-///   Pipeline: the keys of pipeline_ini.hpp (PipelineOptions and its detector options, same
+///   Tracker: the keys of pipeline_ini.hpp (TrackerOptions and its detector options, same
 ///   names), as in the navigator's [pipeline] section.
 ///   Relative paths are taken as they are (relative to the working directory).
 ///
@@ -35,8 +35,8 @@
 /// CGenericSensor::loadConfig wraps exceptions in MRPT's stacked exception (the message is
 /// kept, the type is not).
 ///
-/// Threads: doProcess() runs in the grabber's thread; setPrediction(), setPredictor(),
-/// setGyroRate() and the statistics may be called from any other thread.
+/// Threads: doProcess() runs in the grabber's thread; setInputsProvider() and the statistics
+/// may be called from any other thread.
 #pragma once
 #include <mrpt/core/Clock.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
@@ -49,7 +49,8 @@
 #include <string>
 
 #include "sensors/camera/camera_model.hpp"
-#include "sensors/mrpt/star_tracker_pipeline.hpp"
+#include "sensors/mrpt/observation_from_frame.hpp"
+#include "sensors/tracking/star_tracker.hpp"
 
 namespace st {
 
@@ -59,9 +60,9 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   DEFINE_GENERIC_SENSOR(CStarTrackerSensor)
  public:
   /// Called from the sensor's thread with a frame's timestamp before the frame is processed;
-  /// returns the prediction for that time, or nothing (then frame-to-frame / lost-in-space).
-  using Predictor =
-      std::function<std::optional<AttitudePrediction>(mrpt::Clock::time_point frame_time)>;
+  /// returns what the outside knows at that time (a prediction, a rate, or nothing: then
+  /// frame-to-frame / lost-in-space).
+  using InputsProvider = std::function<FrameInputs(mrpt::Clock::time_point frame_time)>;
 
   CStarTrackerSensor();
   ~CStarTrackerSensor() override;
@@ -70,13 +71,9 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   void doProcess() override;
   void setPathForExternalImages(const std::string& directory) override;
 
-  /// An external prediction (e.g. the filter's) for the next processed frame only.
-  void setPrediction(const AttitudePrediction& prediction);
-  /// A prediction source asked at each frame's time (takes precedence over setPrediction);
-  /// an empty function removes it. The function runs in the sensor's thread.
-  void setPredictor(Predictor predictor);
-  /// Gyro body rate for the frame-to-frame mode, for the next processed frame only.
-  void setGyroRate(const Vec3& rate_body);
+  /// The source of each frame's FrameInputs, asked at the frame's time (e.g. a filter's
+  /// prediction); an empty function removes it. The function runs in the sensor's thread.
+  void setInputsProvider(InputsProvider provider);
 
   /// Statistics (thread-safe).
   int framesProcessed() const { return frames_; }
@@ -119,13 +116,13 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   std::unique_ptr<mrpt::hwdrivers::CGenericSensor> source_;
   std::shared_ptr<const StarDatabase> db_;
   CameraModel camera_;
-  std::unique_ptr<StarTrackerPipeline> pipeline_;
+  std::unique_ptr<StarTracker> tracker_;
   int image_counter_ = 0;
+  /// The tracker's time: seconds from the first frame (it only takes differences).
+  std::optional<mrpt::Clock::time_point> first_frame_;
 
   mutable std::mutex mutex_;  // guards everything below
-  std::optional<AttitudePrediction> prediction_;
-  std::optional<Vec3> gyro_rate_;
-  Predictor predictor_;
+  InputsProvider provider_;
   CObservationStarTracker::Ptr last_obs_;
   cv::Mat last_image_;
   std::atomic<int> frames_{0}, solved_{0}, tracking_{0};

@@ -59,6 +59,9 @@ enum class FrameFailure : uint8_t {
   kSolver,                ///< the Wahba solver failed / degenerate star geometry
   kResiduals,             ///< the residual chi-square test failed down to the minimum stars
   kInconsistentPrediction,///< tracking: the solution contradicts the prediction
+  kUnknown,               ///< a failure whose kind was not recorded (old rawlogs)
+  kNoImage,               ///< the frame's image could not be loaded or was empty
+  kLast = kNoImage,       ///< the largest value (serialization range check)
 };
 /// A short stable name ("no-match", "too-few-in-gate", ...), for logs and counters.
 const char* toString(FrameFailure f);

@@ -50,7 +50,7 @@ void BM_IdentifyVerifyQuest20(benchmark::State& state) {
   std::size_t k = 0, solved = 0, runs = 0;
   for (auto _ : state) {
     const IdentifyResult r = id->identify(scenes[k], db, cam);
-    benchmark::DoNotOptimize(r.q_ib);
+    benchmark::DoNotOptimize(r.q_ic);
     solved += r.solved();
     ++runs;
     k = (k + 1) % scenes.size();
@@ -85,7 +85,7 @@ void BM_SolveRealFrame(benchmark::State& state) {
   for (auto _ : state) {
     const DetectionResult det = detectStars(img);
     const FovSearchResult r = identifyAndFit(det.stars, cam, db, *id, 0.0, false, 0.5);
-    benchmark::DoNotOptimize(r.result.q_ib);
+    benchmark::DoNotOptimize(r.result.q_ic);
     solved += r.result.solved();
     ++runs;
   }
@@ -104,7 +104,7 @@ void BM_MonteCarlo10000(benchmark::State& state) {
       const test::Scene sc = test::makeScene(rng, db, cam, {}, test::randomAttitude(rng));
       const IdentifyResult r = id->identify(toStarObservations(sc.centroids, cam), db, cam);
       if (!r.solved()) continue;
-      bool ok = attitudeNees(r.q_ib, r.cov_body, sc.q_ib) < 40.0;
+      bool ok = attitudeNees(r.q_ic, r.cov_cam, sc.q_ib) < 40.0;
       for (const StarMatch& m : r.matches)
         ok = ok && sc.truth[m.obs_index] == static_cast<int>(m.star_index);
       ok ? ++solved : ++wrong;

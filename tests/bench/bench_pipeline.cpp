@@ -1,4 +1,4 @@
-// StarTrackerPipeline frame cost on simulated 800x600 12-bit frames (tests/mrpt/pipeline_sim.hpp):
+// StarTracker frame cost on simulated 800x600 12-bit frames (tests/tracking/tracker_sim.hpp):
 //   BM_TrackingFrame     prediction given -> cone query, projection, 20 windows, gate, QUEST,
 //                        verification (issue 7 target: < 100 us)
 //   BM_LostInSpaceFrame  the same frames from scratch: full-frame detection + pyramid
@@ -7,8 +7,8 @@
 
 #include <random>
 
-#include "sensors/mrpt/star_tracker_pipeline.hpp"
-#include "tests/mrpt/pipeline_sim.hpp"
+#include "sensors/tracking/star_tracker.hpp"
+#include "tests/tracking/tracker_sim.hpp"
 
 namespace st {
 namespace {
@@ -43,19 +43,20 @@ const Frames& frames() {
 // Arg 0: the default centroider ("gauss" ML fit), 1: "cog" (cheaper, less accurate).
 void BM_TrackingFrame(benchmark::State& state) {
   const Frames& f = frames();
-  PipelineOptions opts = test::simPipelineOptions();
+  TrackerOptions opts = test::simTrackerOptions();
   if (state.range(0) == 1) opts.detect.centroider = "cog";
   opts.max_tracked_stars = 20;
-  StarTrackerPipeline pipe(test::simDatabase(), test::simCamera(), opts);
-  pipe.process(f.frames[0].image, f.frames[0].t);  // lost-in-space once: not lost any more
+  StarTracker pipe(test::simDatabase(), test::simCamera(), opts);
+  pipe.process(f.frames[0].image, f.frames[0].t_s);  // lost-in-space once: not lost any more
   std::size_t k = 0;
   int stars = 0, tracked = 0, frames_done = 0;
   for (auto _ : state) {
     const std::size_t i = k++ % f.frames.size();
-    pipe.setPrediction(f.predictions[i]);
-    const auto o = pipe.process(f.frames[i].image, f.frames[i].t);
-    stars += int(o->stars.size());
-    tracked += o->mode == StarTrackerMode::kTracking;
+    FrameInputs in;
+    in.prediction = f.predictions[i];
+    const FrameResult o = pipe.process(f.frames[i].image, f.frames[i].t_s, in);
+    stars += int(o.stars.size());
+    tracked += o.mode == StarTrackerMode::kTracking;
     ++frames_done;
     benchmark::DoNotOptimize(o);
   }
@@ -67,14 +68,14 @@ BENCHMARK(BM_TrackingFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_LostInSpaceFrame(benchmark::State& state) {
   const Frames& f = frames();
-  StarTrackerPipeline pipe(test::simDatabase(), test::simCamera(), test::simPipelineOptions());
+  StarTracker pipe(test::simDatabase(), test::simCamera(), test::simTrackerOptions());
   std::size_t k = 0;
   int solved = 0, frames_done = 0;
   for (auto _ : state) {
     const std::size_t i = k++ % f.frames.size();
     pipe.reset();
-    const auto o = pipe.process(f.frames[i].image, f.frames[i].t);
-    solved += o->mode == StarTrackerMode::kLostInSpace;
+    const FrameResult o = pipe.process(f.frames[i].image, f.frames[i].t_s);
+    solved += o.mode == StarTrackerMode::kLostInSpace;
     ++frames_done;
     benchmark::DoNotOptimize(o);
   }

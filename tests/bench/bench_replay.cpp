@@ -53,9 +53,9 @@ const Data& data() {
 void BM_ReplayTrackingFrame(benchmark::State& state) {
   const Data& d = data();
   NavigatorOptions o;
-  o.pipeline.exposure_s = d.sc.sensor.exposure_s;
-  o.pipeline.detect.gain_e_per_adu = d.sc.sensor.gain();
-  o.pipeline.detect.read_noise_adu = d.sc.sensor.read_noise_e / d.sc.sensor.gain();
+  o.pipeline.tracker.exposure_s = d.sc.sensor.exposure_s;
+  o.pipeline.tracker.detect.gain_e_per_adu = d.sc.sensor.gain();
+  o.pipeline.tracker.detect.read_noise_adu = d.sc.sensor.read_noise_e / d.sc.sensor.gain();
   o.fusion.filter = MekfOptions::fromDatasheet(0.15, 0.5, 5.0);
   Navigator nav(*d.db, d.sc.camera, o);
   nav.setKeepSteps(false);

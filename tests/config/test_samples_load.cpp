@@ -2,11 +2,13 @@
 // that the readers are strict (tracker files through the navigator's reader, sensor
 // sections through MRPT's loadConfig, scenarios through Scenario::load).
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <mrpt/config/CConfigFile.h>
 
 #include <filesystem>
 
-#include "fusion/navigator.hpp"
+#include "navigation/tracker_config.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/simulated_sensors.hpp"
@@ -43,12 +45,19 @@ TEST(SampleIni, EveryRawlogsIniLoadsThroughItsReaders) {
       EXPECT_NO_THROW(Scenario::load(path));
       ++sections;
     }
-    if (cfg.sectionExists("filter") || cfg.sectionExists("pipeline")) {
+    std::vector<std::string> all;
+    cfg.getAllSections(all);
+    const bool live = std::any_of(all.begin(), all.end(), [&](const std::string& s) {
+      return !cfg.read_string(s, "driver", "", false).empty();
+    });
+    if (live && (cfg.sectionExists("filter") || cfg.sectionExists("navigator"))) {
+      bool enabled = false;
+      EXPECT_NO_THROW(liveNavigatorOptions(cfg, path, &enabled));
+      ++sections;
+    } else if (cfg.sectionExists("filter") || cfg.sectionExists("pipeline")) {
       EXPECT_NO_THROW(TrackerConfig::load(path));
       ++sections;
     }
-    std::vector<std::string> all;
-    cfg.getAllSections(all);
     for (const auto& s : all) {
       const std::string driver = cfg.read_string(s, "driver", "", false);
       if (driver.empty()) continue;

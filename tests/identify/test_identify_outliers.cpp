@@ -44,8 +44,8 @@ Count run(bool new_tests, const test::SceneParams& sp, int trials, uint64_t seed
                   r.reason.c_str(), r.matches.size(), sc.centroids.size());
     if (!r.solved()) continue;
     ++c.solved;
-    const double err = attitudeError(r.q_ib, sc.q_ib).total;
-    const double sigma = std::sqrt(std::max(0.0, r.cov_body.trace()));
+    const double err = attitudeError(r.q_ic, sc.q_ib).total;
+    const double sigma = std::sqrt(std::max(0.0, r.cov_cam.trace()));
     bool wrong = err > std::max(10 * sigma, arcsec2rad(60.0));
     for (const StarMatch& m : r.matches)
       wrong |= sc.truth[m.obs_index] != static_cast<int>(m.star_index);

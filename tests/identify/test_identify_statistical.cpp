@@ -41,7 +41,7 @@ Tally runTrials(const StarIdentifier& id, const CameraModel& truth_cam,
       continue;
     }
     ++t.solved;
-    const double err = attitudeError(r.q_ib, sc.q_ib).total;
+    const double err = attitudeError(r.q_ic, sc.q_ib).total;
     int bad_ids = 0;
     for (const StarMatch& m : r.matches)
       if (sc.truth[m.obs_index] != static_cast<int>(m.star_index)) {
@@ -49,11 +49,11 @@ Tally runTrials(const StarIdentifier& id, const CameraModel& truth_cam,
         if (std::getenv("ST_DEBUG_ID")) {
           const int tr = sc.truth[m.obs_index];
           const double sep = tr < 0 ? -1 : std::acos(std::min(1.0, db.stars()[tr].u_i.dot(db.stars()[m.star_index].u_i)));
-          std::printf("trial %d obs %u truth %d matched %u sep %.1f\" res %.2fpx err %.1f\" nmatch %zu\n", k, m.obs_index, tr, m.star_index, rad2arcsec(sep), m.residual_px, rad2arcsec(attitudeError(r.q_ib, sc.q_ib).total), r.matches.size());
+          std::printf("trial %d obs %u truth %d matched %u sep %.1f\" res %.2fpx err %.1f\" nmatch %zu\n", k, m.obs_index, tr, m.star_index, rad2arcsec(sep), m.residual_px, rad2arcsec(attitudeError(r.q_ic, sc.q_ib).total), r.matches.size());
         }
       }
     t.wrong_ids += bad_ids;
-    const double nees = attitudeNees(r.q_ib, r.cov_body, sc.q_ib);
+    const double nees = attitudeNees(r.q_ic, r.cov_cam, sc.q_ib);
     t.max_nees = std::max(t.max_nees, nees);
     if (nees > kWrongNees || bad_ids > 0) {
       ++t.wrong_attitude;

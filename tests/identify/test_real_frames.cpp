@@ -57,7 +57,7 @@ TEST(RealFrames, AllEightSolvedFromTheImageAlone) {
     ASSERT_TRUE(det.reason.empty()) << det.reason;
     const FovSearchResult r =
         identifyUnknownFov(det.stars, img.cols, img.rows, db, *id, grid, scale_tol, 0.5);
-    const RaDecRoll rdr = raDecRollFromAttitude(r.result.q_ib);
+    const RaDecRoll rdr = raDecRollFromAttitude(r.result.q_ic);
     std::printf("%s: %s, %zu/%zu matched, RMS %.3f px, HFOV %.3f deg, RA %.3f Dec %.3f, "
                 "P_false %.2g, %d FOVs, %.1f ms\n",
                 std::filesystem::path(f).filename().c_str(),

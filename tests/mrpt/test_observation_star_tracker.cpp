@@ -112,6 +112,7 @@ TEST(ObservationStarTracker, RoundTripsThroughARawlogBitForBit) {
 TEST(ObservationStarTracker, OlderVersionZeroStillLoads) {
   registerStarTrackerClasses();
   auto obs = test::makeStarTrackerObservation(11);
+  obs->setWriteVersion(1);
   const Bytes v1 = serialize(*obs);
   obs->setWriteVersion(0);
   const Bytes v0 = serialize(*obs);
@@ -143,6 +144,47 @@ TEST(ObservationStarTracker, OlderVersionZeroStillLoads) {
                std::invalid_argument);
 }
 
+TEST(ObservationStarTracker, VersionTwoKeepsTheFailureKindAndOlderVersionsDefaultIt) {
+  registerStarTrackerClasses();
+  auto obs = test::makeStarTrackerObservation(12);
+  obs->mode = StarTrackerMode::kFailed;
+  obs->failure = FrameFailure::kTooFewInGate;
+  const Bytes v2 = serialize(*obs);
+  ASSERT_EQ(v2[versionOffset()], 2);
+  auto back = deserialize(v2);
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(back->failure, FrameFailure::kTooFewInGate);
+  EXPECT_TRUE(back->sameContent(*obs));
+  EXPECT_EQ(serialize(*back), v2);
+
+  // Version 1 is version 2 without the failure byte; its failures read as kUnknown...
+  obs->setWriteVersion(1);
+  const Bytes v1 = serialize(*obs);
+  ASSERT_EQ(v1[versionOffset()], 1);
+  EXPECT_EQ(v2.size() - v1.size(), 1u);
+  back = deserialize(v1);
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(back->writeVersion(), 1);
+  EXPECT_EQ(back->failure, FrameFailure::kUnknown);
+  EXPECT_EQ(serialize(*back), v1);
+  // ...and its fixes as kNone.
+  obs->mode = StarTrackerMode::kTracking;
+  obs->failure = FrameFailure::kNone;
+  back = deserialize(serialize(*obs));
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(back->failure, FrameFailure::kNone);
+  EXPECT_TRUE(back->sameContent(*obs));
+
+  // A failure value beyond the enum is a corrupt object. The failure byte is where the
+  // version-2 bytes first differ from the version-1 ones after the version byte.
+  std::size_t at = versionOffset() + 1;
+  while (at < v1.size() && v1[at] == v2[at]) ++at;
+  ASSERT_EQ(v2[at], static_cast<uint8_t>(FrameFailure::kTooFewInGate));
+  Bytes bad = v2;
+  bad[at] = 0xff;
+  EXPECT_ANY_THROW(deserialize(bad));
+}
+
 TEST(ObservationStarTracker, UnknownFutureVersionIsRejected) {
   registerStarTrackerClasses();
   Bytes b = serialize(*test::makeStarTrackerObservation(3));
@@ -172,7 +214,9 @@ TEST(ObservationStarTracker, DescriptionShowsEverythingRawLogViewerNeeds) {
   EXPECT_NE(text.find(std::to_string(obs->stars[0].catalog_id)), std::string::npos);
 
   obs->mode = StarTrackerMode::kFailed;
+  obs->failure = FrameFailure::kNoMatch;
   EXPECT_NE(obs->asString().find("No attitude"), std::string::npos);
+  EXPECT_NE(obs->asString().find("Failure: no-match"), std::string::npos);
 }
 
 }  // namespace

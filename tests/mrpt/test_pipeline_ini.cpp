@@ -46,9 +46,10 @@ TEST(PipelineIni, EveryKeyIsListedAndReadIntoItsOption) {
     PipelineOptions o;
     readPipelineOptions(IniReader{cfg, "t.ini"}, "pipeline", o);
     // Each key alone must change exactly the option it names: compare the printable fields.
-    auto fields = [](const PipelineOptions& p) {
+    auto fields = [](const PipelineOptions& po) {
+      const TrackerOptions& p = po.tracker;
       return std::vector<std::string>{
-          p.sensor_label, p.lis_algorithm, p.solver, p.identify.solver,
+          po.sensor_label, p.lis_algorithm, p.solver, p.identify.solver,
           std::to_string(p.exposure_s), std::to_string(p.min_sigma_px),
           std::to_string(p.tracking_min_sigma_px), std::to_string(p.max_tracked_stars),
           std::to_string(p.min_tracked_stars), std::to_string(p.drop_saturated),

@@ -165,7 +165,7 @@ TEST(StarTrackerSensor, ExternalPredictionMakesTheSecondFrameTrack) {
   auto sensor = makeSensor(trackerSection(scen, "frame_to_frame = false\nemit_image = false\n"));
   const Scenario sc = Scenario::load(scen);
   int asked = 0;
-  sensor->setPredictor([&](mrpt::Clock::time_point t) -> std::optional<AttitudePrediction> {
+  sensor->setInputsProvider([&](mrpt::Clock::time_point t) {
     ++asked;
     const double dt =
         std::chrono::duration<double>(t - simulatedSensorsStart()).count();
@@ -173,7 +173,9 @@ TEST(StarTrackerSensor, ExternalPredictionMakesTheSecondFrameTrack) {
     p.q_ib = sc.motion->attitude(dt) * quatExp(Vec3(2e-5, -1e-5, 3e-5));  // a small error
     p.cov_body = Mat3::Identity() * 1e-8;
     p.rate_body = sc.motion->rateBody(dt);
-    return p;
+    FrameInputs in;
+    in.prediction = p;
+    return in;
   });
   const PlayResult run = play(*sensor);
   ASSERT_GE(run.fixes.size(), 10u);

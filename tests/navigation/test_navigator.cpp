@@ -45,9 +45,9 @@ Scenario makeScenario(const std::string& ini) {
 
 NavigatorOptions navOptions(const Scenario& sc) {
   NavigatorOptions o;
-  o.pipeline.exposure_s = sc.sensor.exposure_s;
-  o.pipeline.detect.gain_e_per_adu = sc.sensor.gain();
-  o.pipeline.detect.read_noise_adu = sc.sensor.read_noise_e / sc.sensor.gain();
+  o.pipeline.tracker.exposure_s = sc.sensor.exposure_s;
+  o.pipeline.tracker.detect.gain_e_per_adu = sc.sensor.gain();
+  o.pipeline.tracker.detect.read_noise_adu = sc.sensor.read_noise_e / sc.sensor.gain();
   // The gyro datasheet numbers of the scenario; bias prior covering the 3 deg/h turn-on bias.
   o.fusion.filter = MekfOptions::fromDatasheet(0.15, 0.5, 5.0);
   return o;
@@ -348,8 +348,8 @@ TEST(NavigatorConfig, ReadsTrackerIniAndNamesBadKeys) {
   const TrackerConfig c = TrackerConfig::fromConfig(good, "t.ini");
   EXPECT_NEAR(c.nav.fusion.filter.arw_rad_rt_s, deg2rad(0.3) / 60.0, 1e-15);
   EXPECT_EQ(c.nav.fusion.update, FusionOptions::Update::kStarVectors);
-  EXPECT_EQ(c.nav.pipeline.detect.gain_e_per_adu, 8.0);
-  EXPECT_EQ(c.nav.pipeline.solver, "svd");
+  EXPECT_EQ(c.nav.pipeline.tracker.detect.gain_e_per_adu, 8.0);
+  EXPECT_EQ(c.nav.pipeline.tracker.solver, "svd");
   EXPECT_EQ(c.nav.fusion.reinit_after_rejections, 5);
   EXPECT_EQ(c.database.mag_limit, 6.0);
   EXPECT_FALSE(c.camera.has_value());

@@ -1,4 +1,4 @@
-// Simulated star-tracker frames for the pipeline tests and benchmark: the committed Hipparcos
+// Simulated star-tracker frames for the tracker tests and benchmark: the committed Hipparcos
 // subset as database, a 16 x 12 deg camera, the SIM helper's renderer (PSF, blur) and
 // detector (shot, dark, read noise, 12-bit ADC).
 #pragma once
@@ -14,7 +14,7 @@
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
 #include "sensors/camera/camera_model.hpp"
-#include "sensors/mrpt/star_tracker_pipeline.hpp"
+#include "sensors/tracking/tracker_options.hpp"
 #include "sensors/sim/detector.hpp"
 #include "sensors/sim/motion.hpp"
 #include "sensors/sim/sensor_params.hpp"
@@ -59,12 +59,12 @@ inline SensorParams simSensor() {
   return s;
 }
 
-/// Pipeline options matching simSensor(): the detector's noise model must know the ADC gain
+/// Tracker options matching simSensor(): the detector's noise model must know the ADC gain
 /// (shot-noise variance S / gain) and the read noise, or the centroid covariances are off by
 /// the gain ratio.
-inline PipelineOptions simPipelineOptions() {
+inline TrackerOptions simTrackerOptions() {
   const SensorParams s = simSensor();
-  PipelineOptions o;
+  TrackerOptions o;
   o.exposure_s = s.exposure_s;
   o.detect.gain_e_per_adu = s.gain();
   o.detect.read_noise_adu = s.read_noise_e / s.gain();
@@ -86,13 +86,15 @@ class FrameSimulator {
     Quat q_ib;                    ///< truth at mid-exposure
     Vec3 rate_body;               ///< truth
     std::vector<TrueStar> stars;  ///< truth: rendered catalog stars in the image
-    mrpt::Clock::time_point t;
+    double t_s = 0;               ///< [s] from the start of the run (the tracker's time)
+    mrpt::Clock::time_point t;    ///< the same instant as an MRPT timestamp
   };
 
   Frame frame(const MotionProfile& motion, double t_s) {
     Frame f;
     f.q_ib = motion.attitude(t_s);
     f.rate_body = motion.rateBody(t_s);
+    f.t_s = t_s;
     f.t = simTime(t_s);
     cv::Mat e = detector_.meanBackground().clone();
     f.stars = renderer_.render([&](double tau) { return motion.attitude(t_s + tau); }, e);
@@ -103,6 +105,7 @@ class FrameSimulator {
   /// A frame with no stars (lens cap, Sun blinding): background and noise only.
   Frame darkFrame(double t_s) {
     Frame f;
+    f.t_s = t_s;
     f.t = simTime(t_s);
     f.image = detector_.expose(detector_.meanBackground(), rng_);
     return f;

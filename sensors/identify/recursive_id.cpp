@@ -1,0 +1,159 @@
+#include "sensors/identify/recursive_id.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace st {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+}  // namespace
+
+RecursiveIdentifier::RecursiveIdentifier(const StarDatabase& db, const CameraModel& camera,
+                                         RecursiveIdOptions o)
+    : db_(db), camera_(camera), opts_(std::move(o)), half_diagonal_fov_(camera.halfDiagonalFov()) {}
+
+void RecursiveIdentifier::predictCandidates(const CameraPrediction& pred) {
+  const Mat3 R_ic = pred.q_ic.toRotationMatrix();
+  // sqrt(trace) bounds the largest 1-sigma of the attitude (cheaper than an eigen solve).
+  const double att_sigma = std::sqrt(std::max(0.0, pred.cov_cam.trace()));
+  // Seed 002: the cone of the FOV + the attitude uncertainty.
+  db_.coneQuery(R_ic.col(2), half_diagonal_fov_ + 3.0 * att_sigma, cone_);
+  candidates_.clear();
+  for (uint32_t i : cone_) {
+    const Vec3 v = R_ic.transpose() * db_.stars()[i].u_i;
+    if (v.z() <= 0) continue;
+    const auto px = camera_.vectorToPixel(v);
+    if (!px || !camera_.isPixelInImage(*px, 0.0)) continue;
+    Candidate c;
+    c.star_index = i;
+    c.v_cam = v;
+    c.px = *px;
+    candidates_.push_back(c);
+  }
+}
+
+bool RecursiveIdentifier::blended(const Candidate& c, const Vec2& blur) const {
+  // The centroid window of a star is a square of half-size 2.5 psf + blur/2 around its
+  // image's middle (centroidWindows), and another star's light reaches 3 psf beyond its own
+  // streak (o.px +- blur/2). A star is windowed only if no other catalog star's light falls
+  // into its window: for a streak that is a box of ~(blur + 6 psf) around it, not a fixed
+  // radius (streaks of neighbours overlap along the streak direction and pull the centre of
+  // gravity by flux ratio x distance). PSF sigma as the detector assumes it.
+  const double psf = opts_.detect.psfSigmaGuess();
+  const double blend2 = opts_.blend_separation_px * opts_.blend_separation_px;
+  const double hc = std::ceil(2.5 * psf + 0.5 * blur.norm());
+  const double reach_x = hc + 0.5 * std::abs(blur.x()) + 3.0 * psf;
+  const double reach_y = hc + 0.5 * std::abs(blur.y()) + 3.0 * psf;
+  for (const Candidate& o : candidates_) {
+    if (&o == &c) continue;
+    const Vec2 d = o.px - c.px;
+    if (d.squaredNorm() < blend2 || (std::abs(d.x()) < reach_x && std::abs(d.y()) < reach_y))
+      return true;
+  }
+  return false;
+}
+
+void RecursiveIdentifier::placeWindows(const CameraPrediction& pred) {
+  // The brightest stars (cone order = brightest first) away from the border and from blends.
+  windows_.clear();
+  windowed_.clear();
+  const double sigma_c2 = opts_.centroid_sigma_px * opts_.centroid_sigma_px;
+  for (Candidate& c : candidates_) {
+    if (int(windows_.size()) >= opts_.max_stars) break;
+    if (!camera_.isPixelInImage(c.px, opts_.edge_margin_px)) continue;
+    // Error model: v_true = Exp(-dtheta) v = v + [v]x dtheta (R_true = R Exp(dtheta)).
+    c.H = attitudeJacobian(camera_, c.v_cam);
+    const Vec2 blur = c.H * pred.rate_cam * opts_.exposure_s;
+    if (blended(c, blur)) continue;
+    c.cov_att_px = c.H * pred.cov_cam * c.H.transpose();
+    PredictedStar p;
+    p.px = c.px;
+    p.cov_px = c.cov_att_px + sigma_c2 * Mat2::Identity();
+    p.blur_px = blur;
+    windows_.push_back(p);
+    windowed_.push_back(&c);
+  }
+}
+
+void RecursiveIdentifier::gate(RecursiveIdResult& out) {
+  // Seed 002 step 5: |d| < 3 sqrt(2) sigma, as a Mahalanobis gate.
+  const double gate2 = opts_.gate_sigma * opts_.gate_sigma;
+  const double sigma_c2 = opts_.centroid_sigma_px * opts_.centroid_sigma_px;
+  std::vector<double>& d2s = gated_d2_;
+  d2s.clear();
+  for (std::size_t k = 0; k < found_.size(); ++k) {
+    if (!found_[k].centroid) continue;
+    ++out.with_centroid;
+    const Centroid& cen = *found_[k].centroid;
+    const Vec2 d = cen.px - windowed_[k]->px;
+    const Mat2 S = windowed_[k]->cov_att_px + cen.cov_px + sigma_c2 * Mat2::Identity();
+    const double d2 = d.dot(S.ldlt().solve(d));
+    if (!(d2 <= gate2)) continue;
+    // Two windows that caught the same blob: keep the closer prediction.
+    bool duplicate = false;
+    for (std::size_t j = 0; j < out.stars.size(); ++j) {
+      if ((out.stars[j].px - cen.px).squaredNorm() < 1.0) {
+        duplicate = true;
+        if (d2 < d2s[j]) {
+          out.stars[j] = cen;
+          out.star_index[j] = windowed_[k]->star_index;
+          d2s[j] = d2;
+        }
+        break;
+      }
+    }
+    if (duplicate) continue;
+    out.stars.push_back(cen);
+    out.star_index.push_back(windowed_[k]->star_index);
+    d2s.push_back(d2);
+  }
+  if (!opts_.drop_saturated) return;
+  // Saturated stars' fits rest on their wings, and their errors exceed the covariance they
+  // report: left out while at least min_stars others remain.
+  std::size_t unsaturated = 0;
+  for (const Centroid& c : out.stars) unsaturated += !(c.flags & kSaturated);
+  if (int(unsaturated) < opts_.min_stars || unsaturated == out.stars.size()) return;
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < out.stars.size(); ++k) {
+    if (out.stars[k].flags & kSaturated) continue;
+    out.stars[w] = out.stars[k];
+    out.star_index[w] = out.star_index[k];
+    ++w;
+  }
+  out.stars.resize(w);
+  out.star_index.resize(w);
+}
+
+void RecursiveIdentifier::identify(const cv::Mat& image, const CameraPrediction& pred,
+                                   RecursiveIdResult& out) {
+  const auto t0 = Clock::now();
+  out.stars.clear();
+  out.star_index.clear();
+  out.with_centroid = 0;
+  out.detect_s = 0;
+  predictCandidates(pred);
+  placeWindows(pred);
+  out.windows = static_cast<int>(windows_.size());
+  const auto t1 = Clock::now();
+  if (out.windows < opts_.min_stars) {
+    out.status = RecursiveIdResult::Status::kTooFewPredicted;
+    out.identify_s = seconds(t0, t1);
+    return;
+  }
+  // Centroids in the windows only (seed 004 §4.2.3).
+  found_ = centroidWindows(image, windows_, opts_.detect);
+  const auto t2 = Clock::now();
+  out.detect_s = seconds(t1, t2);
+  gate(out);
+  out.identify_s = seconds(t0, t1) + seconds(t2, Clock::now());
+  out.status = int(out.stars.size()) < opts_.min_stars ? RecursiveIdResult::Status::kTooFewInGate
+                                                       : RecursiveIdResult::Status::kOk;
+}
+
+}  // namespace st

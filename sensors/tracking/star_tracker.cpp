@@ -1,0 +1,300 @@
+#include "sensors/tracking/star_tracker.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/conventions.hpp"
+#include "sensors/attitude/drop_worst.hpp"
+#include "sensors/camera/jacobians.hpp"
+#include "sensors/detect/star_detector.hpp"
+#include "sensors/detect/streaks.hpp"
+#include "sensors/identify/star_observation.hpp"
+
+namespace st {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+double angleBetween(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+const TrackerOptions& validated(const TrackerOptions& o) {
+  o.validate();
+  return o;
+}
+
+RecursiveIdOptions recursiveIdOptions(const TrackerOptions& o) {
+  RecursiveIdOptions r;
+  r.max_stars = o.max_tracked_stars;
+  r.min_stars = o.min_tracked_stars;
+  r.drop_saturated = o.drop_saturated;
+  r.gate_sigma = o.gate_sigma;
+  r.edge_margin_px = o.edge_margin_px;
+  r.blend_separation_px = o.blend_separation_px;
+  r.centroid_sigma_px = std::max(o.min_sigma_px, 0.1);
+  r.exposure_s = o.exposure_s;
+  r.detect = o.detect;
+  return r;
+}
+
+FramePredictorOptions predictorOptions(const TrackerOptions& o) {
+  return {o.frame_to_frame, o.max_propagation_s, o.accel_sigma, o.gyro_sigma, o.exposure_s};
+}
+
+FrameFailure failureOf(IdentifyStatus s) {
+  switch (s) {
+    case IdentifyStatus::TooFewStars:
+      return FrameFailure::kTooFewStars;
+    case IdentifyStatus::Rejected:
+      return FrameFailure::kRejected;
+    case IdentifyStatus::NoMatch:
+    case IdentifyStatus::Solved:
+      break;
+  }
+  return FrameFailure::kNoMatch;
+}
+
+}  // namespace
+
+StarTracker::StarTracker(const StarDatabase& db, const CameraModel& camera,
+                         TrackerOptions options)
+    : db_(db),
+      camera_(camera),
+      opts_(validated(options)),
+      R_bc_(opts_.R_body_cam),
+      identifier_(StarIdentifier::create(opts_.lis_algorithm, opts_.identify)),
+      solver_(WahbaSolver::create(opts_.solver)),
+      recursive_(db_, camera_, recursiveIdOptions(opts_)),
+      predictor_(predictorOptions(opts_)),
+      loss_threshold_(opts_.loss_probability, 2 * opts_.max_tracked_stars - 3),
+      consistency_threshold_(chiSquareQuantile(1.0 - opts_.consistency_probability, 3.0)) {}
+
+StarTracker::~StarTracker() = default;
+
+void StarTracker::reset() {
+  predictor_.reset();
+  failed_frames_ = 0;
+  lost_ = true;
+}
+
+void StarTracker::setAttitude(FrameResult& out, const CameraFix& fix) const {
+  // q_ib = q_ic (x) q_cb; dtheta_body = R_bc dtheta_cam.
+  out.q_ib = canonical(fix.q_ic * Quat(R_bc_.transpose()));
+  out.cov_body = R_bc_ * fix.cov_cam * R_bc_.transpose();
+}
+
+FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameInputs& in) {
+  const auto t0 = Clock::now();
+  FrameResult out;
+  if (in.force_lost_in_space) reset();
+  // The measured body rate in the camera frame: the external prediction's, else the gyro's.
+  const Mat3 R_cb = R_bc_.transpose();
+  std::optional<Vec3> rate_cam;
+  if (in.rate_body) rate_cam = R_cb * *in.rate_body;
+  std::optional<CameraPrediction> external;
+  if (in.prediction) {
+    // Body -> camera: q_ic = q_ib (x) q_bc, dtheta_cam = R_cb dtheta_body.
+    external = CameraPrediction{canonical(in.prediction->q_ib * Quat(R_bc_)),
+                                R_cb * in.prediction->cov_body * R_cb.transpose(),
+                                R_cb * in.prediction->rate_body};
+    rate_cam = external->rate_cam;
+  }
+  PredictionSource source = PredictionSource::kNone;
+  std::optional<CameraPrediction> pred;
+  if (!lost_) pred = predictor_.predict(t_s, external, rate_cam, &source);
+
+  CameraFix fix;
+  fix.t_s = t_s;
+  if (pred) {
+    out.prediction = source;
+    if (track(image, *pred, source, out, fix)) {
+      predictor_.correctForAcceleration(rate_cam, fix);
+      setAttitude(out, fix);
+      out.mode = StarTrackerMode::kTracking;
+      failed_frames_ = 0;
+      predictor_.addTrackingFix(fix);
+    } else if (++failed_frames_ >= opts_.max_failed_frames) {
+      out.detail += "; " + std::to_string(failed_frames_) + " failed frames: back to lost-in-space";
+      out.fell_back_to_lost_in_space = true;
+      reset();
+    }
+  } else if (lostInSpace(image, rate_cam, out, fix)) {
+    // No usable prediction: lost-in-space. The previous fix stays as the rate partner only if
+    // it is recent enough to be the frame before.
+    predictor_.correctForAcceleration(rate_cam, fix);
+    setAttitude(out, fix);
+    out.mode = StarTrackerMode::kLostInSpace;
+    failed_frames_ = 0;
+    lost_ = false;
+    predictor_.addLostInSpaceFix(fix);
+  } else {
+    reset();
+  }
+  predictor_.recordRate(t_s, rate_cam);
+  out.timings.total = seconds(t0, Clock::now());
+  return out;
+}
+
+void StarTracker::measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
+                                   std::vector<Centroid>& stars) const {
+  if (rate_cam && opts_.exposure_s > 0) {
+    measureStreaks(
+        image,
+        [&](const Vec2& px) -> Vec2 {
+          return attitudeJacobian(camera_, camera_.pixelToVector(px)) * *rate_cam *
+                 opts_.exposure_s;
+        },
+        opts_.detect, stars);
+  } else if (const auto blur = streakFromShapes(stars, opts_.detect)) {
+    measureStreaks(image, [&](const Vec2&) { return *blur; }, opts_.detect, stars);
+  }
+}
+
+bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
+                              FrameResult& out, CameraFix& fix) {
+  const auto t0 = Clock::now();
+  DetectionResult det = detectStars(image, opts_.detect);
+  if (det.reason.empty()) measureStreaksOf(image, rate_cam, det.stars);
+  out.timings.detect = seconds(t0, Clock::now());
+  out.num_blobs = det.blobs_found;
+  if (!det.reason.empty()) {
+    out.failure = FrameFailure::kDetection;
+    out.detail = "lost-in-space: detection: " + det.reason;
+    return false;
+  }
+  const std::vector<StarObservation> obs =
+      toStarObservations(det.stars, camera_, opts_.min_sigma_px);
+  const IdentifyResult res = identifier_->identify(obs, db_, camera_);
+  out.timings.identify = 1e-3 * res.timing.pattern_ms;
+  out.timings.attitude = 1e-3 * res.timing.verify_ms;
+  if (!res.solved()) {
+    out.failure = failureOf(res.status);
+    out.detail = std::string("lost-in-space: ") + toString(res.status) +
+                 (res.reason.empty() ? "" : ": " + res.reason);
+    return false;
+  }
+  const Mat3 R_ci = res.q_ic.toRotationMatrix().transpose();
+  for (const StarMatch& m : res.matches) {
+    const StarObservation& o = obs[m.obs_index];
+    MatchedStar s;
+    s.catalog_id = m.catalog_id;
+    s.px = o.px;
+    s.v_cam = o.v_cam;
+    s.residual = angleBetween(o.v_cam, R_ci * db_.stars()[m.star_index].u_i);
+    out.stars.push_back(s);
+  }
+  fix.q_ic = canonical(res.q_ic);
+  fix.cov_cam = res.cov_cam;
+  return true;
+}
+
+bool StarTracker::track(const cv::Mat& image, const CameraPrediction& pred,
+                        PredictionSource source, FrameResult& out, CameraFix& fix) {
+  auto fail = [&](FrameFailure kind, const std::string& why) {
+    out.failure = kind;
+    out.detail = std::string("tracking (") + toString(source) + "): " + why;
+    return false;
+  };
+  recursive_.identify(image, pred, rid_);
+  out.timings.identify = rid_.identify_s;
+  out.timings.detect = rid_.detect_s;
+  out.num_blobs = rid_.with_centroid;
+  if (rid_.status == RecursiveIdResult::Status::kTooFewPredicted) {
+    return fail(FrameFailure::kTooFewPredicted, "only " + std::to_string(rid_.windows) +
+                                                    " catalog stars predicted in the image");
+  }
+  const auto t3 = Clock::now();
+  if (rid_.status == RecursiveIdResult::Status::kTooFewInGate) {
+    out.timings.attitude = seconds(t3, Clock::now());
+    return fail(FrameFailure::kTooFewInGate,
+                std::to_string(rid_.stars.size()) + " of " + std::to_string(rid_.windows) +
+                    " predicted stars found inside the gate (" +
+                    std::to_string(rid_.with_centroid) + " windows with a centroid)");
+  }
+  const std::optional<Failure> failure = solveTracked(pred, out, fix);
+  out.timings.attitude = seconds(t3, Clock::now());
+  if (failure) return fail(failure->kind, failure->detail);
+  return true;
+}
+
+std::optional<StarTracker::Failure> StarTracker::solveTracked(const CameraPrediction& pred,
+                                                              FrameResult& out,
+                                                              CameraFix& fix) {
+  const double floor_px = opts_.tracking_min_sigma_px;
+  sobs_ = toStarObservations(rid_.stars, camera_, floor_px);
+  const std::size_t n = sobs_.size();
+  vobs_.resize(n);
+  pix_.resize(n);
+  keep_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& r_i = db_.stars()[rid_.star_index[k]].u_i;
+    vobs_[k] = {sobs_[k].v_cam, r_i, sobs_[k].sigma};
+    pix_[k] = {rid_.stars[k].px, rid_.stars[k].cov_px, r_i};
+    keep_[k] = k;
+  }
+  // QUEST (isotropic sigmas) is the start of the pixel refinement (full covariances).
+  std::optional<Failure> failure;
+  PixelRefinement ref;
+  auto solve = [&]() {
+    const WahbaSolution sol = solver_->solve(vobs_);  // camera frame: q_ib here is q_ic
+    if (!sol.ok) {
+      failure = Failure{FrameFailure::kSolver, "solver: " + sol.reason};
+      return false;
+    }
+    ref = refineInPixels(camera_, pix_, sol.q_ib, floor_px, e2_);
+    if (!ref.ok) failure = Failure{FrameFailure::kSolver, ref.reason};
+    return ref.ok;
+  };
+  // Loss test: sum d^T C^-1 d ~ chi2(2n - 3) (2 dof per star, 3 for the attitude).
+  auto judge = [&]() -> DropWorstVerdict {
+    const int dof = 2 * static_cast<int>(keep_.size()) - 3;
+    if (ref.chi2 <= loss_threshold_(dof)) return {true, 0};
+    return {false, std::size_t(std::max_element(e2_.begin(), e2_.end()) - e2_.begin())};
+  };
+  auto drop_and_resolve = [&](std::size_t worst) {
+    vobs_.erase(vobs_.begin() + long(worst));
+    pix_.erase(pix_.begin() + long(worst));
+    keep_.erase(keep_.begin() + long(worst));
+    return solve();
+  };
+  if (!solve()) return failure;
+  const std::size_t min_keep = static_cast<std::size_t>(opts_.min_tracked_stars);
+  const DropWorstOutcome outcome = dropWorstWhileFailing(n, min_keep, judge, drop_and_resolve);
+  if (outcome == DropWorstOutcome::kSolverFailed) return failure;
+  if (outcome == DropWorstOutcome::kTooFew) {
+    return Failure{FrameFailure::kResiduals, "residual chi2 " + std::to_string(ref.chi2) +
+                                                 " too large for " +
+                                                 std::to_string(keep_.size()) + " stars"};
+  }
+  // Both attitudes are the camera's: the innovation is camera-frame.
+  const Vec3 innov = quatLog(pred.q_ic.conjugate() * ref.q_ic);
+  const Mat3 S = pred.cov_cam + ref.cov_cam;
+  const double m2 = innov.dot(S.ldlt().solve(innov));
+  if (!(m2 <= consistency_threshold_)) {
+    return Failure{FrameFailure::kInconsistentPrediction,
+                   "solution " + std::to_string(rad2arcsec(innov.norm())) +
+                       " arcsec from the prediction (chi2(3) = " + std::to_string(m2) + ")"};
+  }
+  const Mat3 R_ci = ref.q_ic.toRotationMatrix().transpose();
+  for (std::size_t j = 0; j < keep_.size(); ++j) {
+    const std::size_t k = keep_[j];
+    MatchedStar s;
+    s.catalog_id = db_.stars()[rid_.star_index[k]].id;
+    s.px = sobs_[k].px;
+    s.v_cam = sobs_[k].v_cam;
+    s.residual = angleBetween(vobs_[j].b, R_ci * vobs_[j].r);
+    out.stars.push_back(s);
+  }
+  fix.q_ic = ref.q_ic;
+  fix.cov_cam = ref.cov_cam;
+  return std::nullopt;
+}
+
+}  // namespace st

@@ -1,0 +1,105 @@
+/// @file star_tracker.hpp
+/// The tracking stage: one image (+ its mid-exposure time and what the outside knows,
+/// FrameInputs) in, one FrameResult out. It keeps its own state between frames. MRPT-free;
+/// sensors/mrpt/ turns its results into CObservationStarTracker.
+///
+/// Modes (seed 003: initial-estimate vs predictional-estimate; seed 002: recursive star-ID)
+///  - lost-in-space: full-frame detection (detectStars, streaks re-measured:
+///    detect/streaks.hpp) + a lost-in-space identifier (sensors/identify, default "pyramid").
+///    Used when there is no usable prediction.
+///  - tracking: a prediction (FrameInputs::prediction, e.g. a filter's, or the tracker's own
+///    frame-to-frame one, frame_predictor.hpp) drives recursive identification
+///    (identify/recursive_id.hpp: predicted windows + Mahalanobis gate); a Wahba solve
+///    ("quest" by default) over the gated stars, refined in pixel space with each centroid's
+///    full covariance (attitude/pixel_refinement.hpp); verification: the residual chi-square
+///    (~ chi2(2n-3), the worst star dropped while it fails, attitude/drop_worst.hpp), at least
+///    min_tracked_stars stars, and the solution consistent with the prediction (chi2(3) on
+///    Log(q_pred^-1 q_sol) with P_pred + P_sol).
+///    After max_failed_frames consecutive failed tracking frames the tracker drops back to
+///    lost-in-space by itself (and ignores predictions until lost-in-space succeeds again, so
+///    a diverged filter cannot keep it failing).
+///
+/// Frames: identification, windows and fixes work in the camera frame (q_ic, cov_cam);
+/// FrameInputs and FrameResult are in the body frame of TrackerOptions::R_body_cam.
+/// Time: seconds on the caller's monotonic scale; only differences are used.
+///
+/// Not thread-safe; one tracker per camera. The database must outlive it.
+#pragma once
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "catalog/star_database.hpp"
+#include "common/chi_square.hpp"
+#include "sensors/attitude/pixel_refinement.hpp"
+#include "sensors/attitude/wahba.hpp"
+#include "sensors/camera/camera_model.hpp"
+#include "sensors/identify/identifier.hpp"
+#include "sensors/identify/recursive_id.hpp"
+#include "sensors/tracking/frame.hpp"
+#include "sensors/tracking/frame_predictor.hpp"
+#include "sensors/tracking/tracker_options.hpp"
+
+namespace st {
+
+class StarTracker {
+ public:
+  /// Throws InputError naming the option when `options` is unusable (TrackerOptions::isValid).
+  StarTracker(const StarDatabase& db, const CameraModel& camera, TrackerOptions options = {});
+  ~StarTracker();
+  StarTracker(const StarTracker&) = delete;
+  StarTracker& operator=(const StarTracker&) = delete;
+
+  /// Processes one 8- or 16-bit grey frame whose mid-exposure time is t_s [s].
+  FrameResult process(const cv::Mat& image, double t_s, const FrameInputs& in = {});
+
+  /// Forgets everything: the next frame runs lost-in-space.
+  void reset();
+
+  bool isLost() const { return lost_; }
+  int consecutiveFailures() const { return failed_frames_; }
+  const TrackerOptions& options() const { return opts_; }
+  const CameraModel& camera() const { return camera_; }
+
+ private:
+  struct Failure {
+    FrameFailure kind;
+    std::string detail;
+  };
+  bool track(const cv::Mat& image, const CameraPrediction& pred, PredictionSource source,
+             FrameResult& out, CameraFix& fix);
+  /// The Wahba solve + pixel refinement over the gated stars, the worst dropped while the
+  /// residual test fails; nullopt on success.
+  std::optional<Failure> solveTracked(const CameraPrediction& pred, FrameResult& out,
+                                      CameraFix& fix);
+  bool lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam, FrameResult& out,
+                   CameraFix& fix);
+  void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
+                        std::vector<Centroid>& stars) const;
+  void setAttitude(FrameResult& out, const CameraFix& fix) const;
+
+  const StarDatabase& db_;
+  CameraModel camera_;
+  TrackerOptions opts_;
+  Mat3 R_bc_ = Mat3::Identity();  // body from camera
+  std::unique_ptr<StarIdentifier> identifier_;
+  std::unique_ptr<WahbaSolver> solver_;
+  RecursiveIdentifier recursive_;
+  FramePredictor predictor_;
+  ChiSquareThresholds loss_threshold_;  // by dof = 2n - 3, n <= max_tracked_stars
+  double consistency_threshold_ = 0;    // chi2(3)
+  int failed_frames_ = 0;
+  bool lost_ = true;
+
+  // Scratch buffers kept between frames.
+  RecursiveIdResult rid_;
+  std::vector<StarObservation> sobs_;
+  std::vector<VectorObservation> vobs_;
+  std::vector<PixelObservation> pix_;
+  std::vector<std::size_t> keep_;
+  std::vector<double> e2_;
+};
+
+}  // namespace st
