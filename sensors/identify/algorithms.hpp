@@ -1,19 +1,12 @@
 /// @file algorithms.hpp
-/// Factories of the identification algorithms, one per file; the registry table
-/// (registry.cpp) lists them. Internal to sensors/identify/.
+/// What the identification algorithms share (internal to sensors/identify/). Their factories
+/// are declared by the registry table itself (registry.cpp), one line per algorithm.
 #pragma once
 #include <memory>
 
 #include "sensors/identify/identifier.hpp"
 
 namespace st::identify_detail {
-
-std::unique_ptr<StarIdentifier> makePyramid(const IdentifyOptions& o);
-std::unique_ptr<StarIdentifier> makeVoting(const IdentifyOptions& o);
-std::unique_ptr<StarIdentifier> makeLiebe(const IdentifyOptions& o);
-std::unique_ptr<StarIdentifier> makePlanarTriangle(const IdentifyOptions& o);
-std::unique_ptr<StarIdentifier> makeSphericalTriangle(const IdentifyOptions& o);
-std::unique_ptr<StarIdentifier> makeNVertex(const IdentifyOptions& o);
 
 /// Mortari's index pattern for choosing triangles (i, j, k) among n stars: varies the
 /// spacing first so that one bad star (a spike) does not stall the search on it.

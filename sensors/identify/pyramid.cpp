@@ -65,8 +65,11 @@ class PyramidIdentifier final : public StarIdentifier {
 
 }  // namespace
 
-std::unique_ptr<StarIdentifier> identify_detail::makePyramid(const IdentifyOptions& o) {
+// The factory the registry table (registry.cpp) names.
+namespace identify_detail {
+std::unique_ptr<StarIdentifier> makePyramid(const IdentifyOptions& o) {
   return std::make_unique<PyramidIdentifier>(o);
 }
+}  // namespace identify_detail
 
 }  // namespace st

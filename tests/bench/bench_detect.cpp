@@ -104,6 +104,49 @@ BENCHMARK_CAPTURE(BM_Windows20, gauss, std::string("gauss"))->Unit(benchmark::kM
 BENCHMARK_CAPTURE(BM_Windows20, iwc, std::string("iwc"))->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Windows20, cog, std::string("cog"))->Unit(benchmark::kMicrosecond);
 
+// The same with one StarDetector built before the loop (what per-frame code does): no
+// validation, centroider creation or result-vector allocation per call.
+void BM_DetectorObject1024x768(benchmark::State& state, std::string centroider) {
+  st::DetectorOptions o;
+  o.centroider = centroider;
+  st::StarDetector det(o);
+  std::size_t k = 0, stars = 0;
+  for (auto _ : state) {
+    const auto r = det.detect(frames()[k++ % frames().size()]);
+    stars += r.stars.size();
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["stars"] = static_cast<double>(stars) / static_cast<double>(state.iterations());
+  state.counters["target_us"] = kTargetFrameUs;
+}
+BENCHMARK_CAPTURE(BM_DetectorObject1024x768, gauss, std::string("gauss"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DetectorObject1024x768, cog, std::string("cog"))->Unit(benchmark::kMillisecond);
+
+void BM_DetectorWindows20(benchmark::State& state, std::string centroider) {
+  const cv::Mat& img = frames()[0];
+  st::DetectorOptions o;
+  o.max_stars = 20;
+  std::vector<st::PredictedStar> pred;
+  for (const auto& s : st::detectStars(img, o).stars)
+    pred.push_back({s.px + st::Vec2(0.7, -0.5), st::Mat2::Identity() * 1.0, st::Vec2::Zero()});
+  o = {};
+  o.centroider = centroider;
+  st::StarDetector det(o);
+  std::vector<st::WindowResult> r;
+  std::size_t found = 0;
+  for (auto _ : state) {
+    det.centroidWindows(img, pred, r);
+    for (const auto& w : r) found += w.centroid.has_value();
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["windows"] = static_cast<double>(pred.size());
+  state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
+  state.counters["target_us"] = kTargetWindowsUs;
+}
+BENCHMARK_CAPTURE(BM_DetectorWindows20, gauss, std::string("gauss"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_DetectorWindows20, iwc, std::string("iwc"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_DetectorWindows20, cog, std::string("cog"))->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 
 int main(int argc, char** argv) {
