@@ -60,14 +60,16 @@ void readPipelineOptions(const IniReader& r, const std::string& sec, PipelineOpt
     throw InputError(r.where(sec) + ": " + e.what());
   }
   std::string err;
-  if (!StarIdentifier::create(o.lis_algorithm, o.identify, &err))
-    throw InputError(r.where(sec, "lis_algorithm") + " = '" + o.lis_algorithm + "': " + err);
+  // The solvers first: StarIdentifier::create validates o.identify (its solver included),
+  // and a bad identify_solver must be reported under its own key.
   if (!WahbaSolver::create(o.solver, &err))
     throw InputError(r.where(sec, "solver") + " = '" + o.solver + "': " + err);
   if (!WahbaSolver::create(o.identify.solver, &err)) {
     throw InputError(r.where(sec, "identify_solver") + " = '" + o.identify.solver + "': " +
                      err);
   }
+  if (!StarIdentifier::create(o.lis_algorithm, o.identify, &err))
+    throw InputError(r.where(sec, "lis_algorithm") + " = '" + o.lis_algorithm + "': " + err);
 }
 
 }  // namespace st

@@ -7,7 +7,6 @@
 
 #include "common/family_registry.hpp"
 #include "sensors/identify/algorithms.hpp"
-#include "sensors/identify/search_context.hpp"
 
 namespace st {
 namespace {
@@ -23,25 +22,13 @@ class TriangleInTest final : public StarIdentifier {
     std::vector<StarMatch> seeds(3);
     identify_detail::forEachTriangle(ctx.n, [&](int i, int j, int k) {
       if (ctx.done()) return true;
-      const PairSlice sij = ctx.slice(i, j);
-      ctx.addAttitudes(2.0 * sij.size());
-      PartnerLists& lik = ctx.lists(0);
-      lik.build(ctx.slice(i, k));
-      bool stop = false;
-      for (const StarPair* p = sij.begin; p != sij.end && !stop; ++p)
-        for (int o = 0; o < 2 && !stop; ++o) {
-          const uint32_t a = o ? p->b : p->a, b = o ? p->a : p->b;
-          lik.forEach(a, [&](uint32_t c) {
-            if (stop || c == b || !ctx.angleMatches(j, k, b, c) ||
-                !ctx.sameHandedness(i, j, k, a, b, c))
-              return;
+      return identify_detail::forEachCatalogTriangle(
+          ctx, i, j, k, [&](uint32_t a, uint32_t b, uint32_t c) {
             seeds[0] = {static_cast<uint32_t>(i), a};
             seeds[1] = {static_cast<uint32_t>(j), b};
             seeds[2] = {static_cast<uint32_t>(k), c};
-            stop = ctx.tryHypothesis(seeds) || ctx.done();
+            return ctx.tryHypothesis(seeds) || ctx.done();
           });
-        }
-      return stop;
     });
   }
 };
