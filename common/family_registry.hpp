@@ -62,6 +62,15 @@ class FamilyRegistry {
 
   const std::vector<Member>& members() const { return members_; }
 
+  /// The member `name` made with `args`, or nullptr and *error = unknownMessage(name).
+  template <class... Args>
+  auto create(const std::string& name, std::string* error, Args&&... args) const
+      -> decltype(std::declval<Factory>()(std::forward<Args>(args)...)) {
+    if (const Member* m = find(name)) return m->make(std::forward<Args>(args)...);
+    if (error) *error = unknownMessage(name);
+    return nullptr;
+  }
+
   std::vector<std::string> names() const {
     std::vector<std::string> out;
     out.reserve(members_.size());

@@ -36,9 +36,7 @@ void WahbaSolver::registerMember(const std::string& name, const std::string& hel
 }
 
 std::unique_ptr<WahbaSolver> WahbaSolver::create(const std::string& name, std::string* error) {
-  if (const auto* m = registry().find(name)) return m->make();
-  if (error) *error = registry().unknownMessage(name);
-  return nullptr;
+  return registry().create(name, error);
 }
 
 std::vector<std::string> WahbaSolver::names() { return registry().names(); }

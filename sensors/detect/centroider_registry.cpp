@@ -50,9 +50,7 @@ bool Centroider::centroid(const StarPatch& patch, Centroid& out, std::string* re
 }
 
 std::unique_ptr<Centroider> Centroider::create(const std::string& name, std::string* error) {
-  if (const auto* m = registry().find(name)) return m->make();
-  if (error) *error = registry().unknownMessage(name);
-  return nullptr;
+  return registry().create(name, error);
 }
 
 std::vector<std::string> Centroider::names() { return registry().names(); }

@@ -13,9 +13,8 @@ namespace st::detect_detail {
 namespace {
 
 template <typename T>
-DetectionResult measureBlobs(const cv::Mat& grey, const DetectorOptions& opts,
-                             const Centroider& main, const Centroider& cog, Scratch& s,
-                             DetectionResult res) {
+void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centroider& main,
+                  const Centroider& cog, Scratch& s, DetectionResult& res) {
   const BackgroundModel& bg = s.background;
   const BlobLabeller& lab = s.labeller;
   const double sat = saturationLevel(grey, opts);
@@ -98,19 +97,25 @@ DetectionResult measureBlobs(const cv::Mat& grey, const DetectorOptions& opts,
     }
     res.stars.push_back(star);
   }
-  std::stable_sort(res.stars.begin(), res.stars.end(),
-                   [](const Centroid& a, const Centroid& b) { return a.flux > b.flux; });
+  // Brightest first, ties in candidate order. An insertion sort: stable without
+  // std::stable_sort's temporary buffer (an allocation per frame), and about linear here since
+  // the candidates came sorted by a flux estimate already.
+  for (std::size_t i = 1; i < res.stars.size(); ++i)
+    for (std::size_t j = i; j > 0 && res.stars[j].flux > res.stars[j - 1].flux; --j)
+      std::swap(res.stars[j], res.stars[j - 1]);
   if (res.stars.empty()) res.reason = "no blob passed the filters";
-  return res;
 }
 
 }  // namespace
 
-DetectionResult detectFrame(const cv::Mat& grey, const DetectorOptions& opts,
-                            const Centroider& main, const Centroider& cog, Scratch& s) {
+void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroider& main,
+                 const Centroider& cog, Scratch& s, DetectionResult& res) {
   // StarDetector::detect hands over greyView's output only.
   ST_ASSERT(grey.channels() == 1 && (grey.depth() == CV_8U || grey.depth() == CV_16U));
-  DetectionResult res;
+  res.stars.clear();  // keeps its capacity
+  res.reason.clear();
+  res.background = res.noise_sigma = 0;
+  res.blobs_found = res.rejected = res.duplicates = 0;
   const double sat = saturationLevel(grey, opts);
   estimateBackground(grey, opts.background_tile_px, opts.background_samples,
                      opts.read_noise_adu, s.background);
@@ -119,7 +124,7 @@ DetectionResult detectFrame(const cv::Mat& grey, const DetectorOptions& opts,
   res.noise_sigma = bg.sigma;
   if (bg.level >= sat) {
     res.reason = "image saturated (background at the saturation level)";
-    return res;
+    return;
   }
 
   // Threshold at k sigma above the (tiled) background (seed 004 §4.1), blobs 8-connected.
@@ -160,11 +165,12 @@ DetectionResult detectFrame(const cv::Mat& grey, const DetectorOptions& opts,
     cv::minMaxLoc(grey, &lo, &hi);
     res.reason = lo == hi ? "blank image (constant value " + std::to_string(lo) + ")"
                           : "no pixel above the threshold";
-    return res;
+    return;
   }
-  return grey.depth() == CV_8U
-             ? measureBlobs<uint8_t>(grey, opts, main, cog, s, std::move(res))
-             : measureBlobs<uint16_t>(grey, opts, main, cog, s, std::move(res));
+  if (grey.depth() == CV_8U)
+    measureBlobs<uint8_t>(grey, opts, main, cog, s, res);
+  else
+    measureBlobs<uint16_t>(grey, opts, main, cog, s, res);
 }
 
 }  // namespace st::detect_detail

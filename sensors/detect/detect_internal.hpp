@@ -110,9 +110,10 @@ inline bool measure(const Centroider& main, const Centroider& fallback, const St
   return &main != &fallback && fallback.centroid(p, c, reason);
 }
 
-/// Full-frame detection of `grey` (8/16-bit, one channel, dark frame already subtracted).
-DetectionResult detectFrame(const cv::Mat& grey, const DetectorOptions& opts,
-                            const Centroider& main, const Centroider& cog, Scratch& s);
+/// Full-frame detection of `grey` (8/16-bit, one channel, dark frame already subtracted)
+/// into `res` (every field reset; the star vector's capacity kept).
+void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroider& main,
+                 const Centroider& cog, Scratch& s, DetectionResult& res);
 
 /// One predictive window (seed 004 §4.2.3).
 template <typename T>

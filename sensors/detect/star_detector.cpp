@@ -121,20 +121,28 @@ StarDetector::~StarDetector() = default;
 StarDetector::StarDetector(StarDetector&&) noexcept = default;
 StarDetector& StarDetector::operator=(StarDetector&&) noexcept = default;
 
-DetectionResult StarDetector::detect(const cv::Mat& image) {
+void StarDetector::detect(const cv::Mat& image, DetectionResult& res) {
   Scratch& s = *scratch_;
-  DetectionResult res;
   cv::Mat grey;  // a header: the caller's pixels, or the scratch conversion of colour
-  if (!greyView(image, s.converted, grey, res.reason)) return res;
+  std::string why;
+  if (!greyView(image, s.converted, grey, why) ||
+      (!opts_.dark_frame.empty() &&
+       (opts_.dark_frame.size() != grey.size() || opts_.dark_frame.type() != grey.type()))) {
+    res = DetectionResult();
+    res.reason = why.empty() ? "dark frame size/type differs from the image" : why;
+    return;
+  }
   if (!opts_.dark_frame.empty()) {
-    if (opts_.dark_frame.size() != grey.size() || opts_.dark_frame.type() != grey.type()) {
-      res.reason = "dark frame size/type differs from the image";
-      return res;
-    }
     cv::subtract(grey, opts_.dark_frame, s.dark_subtracted);  // saturating: never below 0
     grey = s.dark_subtracted;
   }
-  return detectFrame(grey, opts_, *main_, *cog_, s);
+  detectFrame(grey, opts_, *main_, *cog_, s, res);
+}
+
+DetectionResult StarDetector::detect(const cv::Mat& image) {
+  DetectionResult res;
+  detect(image, res);
+  return res;
 }
 
 void StarDetector::centroidWindows(const cv::Mat& image,

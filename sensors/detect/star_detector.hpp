@@ -87,6 +87,8 @@ class StarDetector {
 
   /// Full frame: stars brightest first (at most options().max_stars).
   DetectionResult detect(const cv::Mat& image);
+  /// The same into `out`, whose star vector keeps its capacity from frame to frame.
+  void detect(const cv::Mat& image, DetectionResult& out);
   DetectionResult detect(const mrpt::img::CImage& image);
 
   /// Only the windows (background from each window's border); `out` gets one result per

@@ -41,15 +41,12 @@ void StarIdentifier::registerMember(const std::string& name, const std::string& 
 std::unique_ptr<StarIdentifier> StarIdentifier::create(const std::string& name,
                                                        const IdentifyOptions& options,
                                                        std::string* error) {
-  const auto* m = registry().find(name);
   std::string why;
-  if (!m) {
-    why = registry().unknownMessage(name);
-  } else if (options.isValid(&why)) {
-    return m->make(options);
+  if (registry().find(name) && !options.isValid(&why)) {  // a known name, bad options
+    if (error) *error = why;
+    return nullptr;
   }
-  if (error) *error = why;
-  return nullptr;
+  return registry().create(name, error, options);
 }
 
 std::vector<std::string> StarIdentifier::names() { return registry().names(); }

@@ -41,12 +41,20 @@ TEST(StarDetectorObject, ReusedDetectorMatchesOneShotCalls) {
   const DetectorOptions opts = test::detectorOptionsFor(cam);
   StarDetector det(opts);
   const std::vector<cv::Mat> fs = frames(cam);
+  DetectionResult reused;
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t f = 0; f < fs.size(); ++f) {
       SCOPED_TRACE("frame " + std::to_string(f));
       const DetectionResult once = detectStars(fs[f], opts);
       EXPECT_FALSE(once.stars.empty()) << once.reason;
       expectSameStars(det.detect(fs[f]), once);
+      det.detect(fs[f], reused);
+      expectSameStars(reused, once);
+      EXPECT_EQ(reused.blobs_found, once.blobs_found);
+      // A frame without stars empties a reused result (nothing stale survives).
+      det.detect(cv::Mat(40, 40, CV_16U, cv::Scalar(7)), reused);
+      EXPECT_TRUE(reused.stars.empty());
+      EXPECT_NE(reused.reason.find("blank"), std::string::npos) << reused.reason;
     }
   // The caller's pixels are never written (the colour frame's conversion is scratch).
   cv::Mat eight = fs[3].clone();
