@@ -154,8 +154,9 @@ BackgroundModel estimateBackground(const cv::Mat& image, int tile, int samples,
 // Median of `v` through `tmp` (reused, so no allocation per frame).
 static float medianOf(const std::vector<float>& v, std::vector<float>& tmp) {
   tmp.assign(v.begin(), v.end());
-  std::nth_element(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2), tmp.end());
-  return tmp[tmp.size() / 2];
+  const auto mid = tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2);
+  std::nth_element(tmp.begin(), mid, tmp.end());
+  return *mid;
 }
 
 void estimateBackground(const cv::Mat& image, int tile, int samples, double sigma_floor,

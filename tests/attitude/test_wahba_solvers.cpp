@@ -27,7 +27,9 @@ TEST_P(WahbaSolverTest, RegistryRoundTrip) {
   EXPECT_FALSE(WahbaSolver::help(GetParam()).empty());
 }
 
-TEST_P(WahbaSolverTest, NoiselessRecoversTruthAndAgrees) { test::expectNoiselessRecovery(*solver_); }
+TEST_P(WahbaSolverTest, NoiselessRecoversTruthAndAgrees) {
+  test::expectNoiselessRecovery(*solver_);
+}
 
 TEST_P(WahbaSolverTest, NearCollinearIsGraceful) { test::expectNearCollinearGraceful(*solver_); }
 
