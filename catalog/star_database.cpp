@@ -30,21 +30,27 @@ std::vector<Vec3> fibonacciSphere(std::size_t n) {
   return v;
 }
 
-void checkParams(const DatabaseParams& p) {
-  auto bad = [](const std::string& what) { throw InputError("database parameters: " + what); };
-  if (!(p.max_pair_angle > 0 && p.max_pair_angle < kPi))
-    bad("max_pair_angle must be in (0, 180) deg, got " + std::to_string(rad2deg(p.max_pair_angle)));
-  if (!std::isfinite(p.mag_limit)) bad("mag_limit must be finite");
-  if (!std::isfinite(p.epoch_jyear) || p.epoch_jyear < 1000 || p.epoch_jyear > 3000)
-    bad("epoch must be a Julian year in [1000, 3000], got " + std::to_string(p.epoch_jyear));
-  if (!(p.double_star_sep >= 0 && p.double_star_sep < deg2rad(1)))
-    bad("double_star_sep must be in [0, 1) deg");
-  if (p.max_stars_per_region < 0) bad("max_stars_per_region must be >= 0");
-  if (!(p.neighbour_radius >= 0 && p.neighbour_radius < kPi)) bad("neighbour_radius must be in [0, 180) deg");
-  if (!(p.region_radius >= 0 && p.region_radius < kPi)) bad("region_radius must be in [0, 180) deg");
-}
-
 }  // namespace
+
+bool DatabaseParams::isValid(std::string* why) const {
+  std::string e;
+  auto bad = [&](const std::string& what) {
+    if (e.empty()) e = "DatabaseParams." + what;
+  };
+  if (!(max_pair_angle > 0 && max_pair_angle < kPi))
+    bad("max_pair_angle must be in (0, 180) deg, got " + std::to_string(rad2deg(max_pair_angle)));
+  if (!std::isfinite(mag_limit)) bad("mag_limit must be finite");
+  if (!std::isfinite(epoch_jyear) || epoch_jyear < 1000 || epoch_jyear > 3000)
+    bad("epoch_jyear must be a Julian year in [1000, 3000], got " + std::to_string(epoch_jyear));
+  if (!(double_star_sep >= 0 && double_star_sep < deg2rad(1)))
+    bad("double_star_sep must be in [0, 1) deg");
+  if (max_stars_per_region < 0) bad("max_stars_per_region must be >= 0");
+  if (!(neighbour_radius >= 0 && neighbour_radius < kPi))
+    bad("neighbour_radius must be in [0, 180) deg");
+  if (!(region_radius >= 0 && region_radius < kPi)) bad("region_radius must be in [0, 180) deg");
+  if (why) *why = e;
+  return e.empty();
+}
 
 std::string StarDatabase::defaultCatalogPath() {
   return std::string(ST_CATALOG_DATA_DIR) + "/hip_main_v6.6.dat.gz";
@@ -59,7 +65,7 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   auto say = [&](const std::string& m) {
     if (progress) progress(m);
   };
-  checkParams(params);
+  requireValid(params);  // the ground program's edge: InputError naming the field
   const auto t0 = std::chrono::steady_clock::now();
   StarDatabase db;
   db.params_ = params;

@@ -46,6 +46,9 @@ struct DatabaseParams {
   // --- additions ---
   bool parallax = true;      ///< annual parallax (observer at the Earth, not the barycentre)
   double region_radius = 0;  ///< [rad] cone of the density reduction; 0 = max_pair_angle / 2
+
+  /// True when all values are usable; otherwise false with `why` naming the field.
+  bool isValid(std::string* why = nullptr) const;
 };
 
 /// Counts at each step of DatabaseParams-driven selection (what `catalog info` prints).

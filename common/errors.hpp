@@ -18,6 +18,16 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The edge's throwing wrapper of an options struct's validation, `bool isValid(std::string*
+/// why) const` (every options struct of a stage has that one signature; `why` names the
+/// struct and the field). Library code validates once, at construction, and reports; only
+/// the edge (CLI, .ini reader, a convenience wrapper) throws.
+template <class Options>
+void requireValid(const Options& options) {
+  std::string why;
+  if (!options.isValid(&why)) throw InputError(why);
+}
+
 /// Valid input that could not be processed.
 class ProcessingError : public std::runtime_error {
  public:

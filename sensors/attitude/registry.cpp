@@ -1,57 +1,51 @@
-// The one table of Wahba solvers: names, help and factories come from here.
-#include <sstream>
+// The one table of Wahba solvers: names, help, CLI choices and factories come from here.
+// A new solver: its own file defining `std::unique_ptr<WahbaSolver> makeXSolver()` in
+// namespace st, plus ONE line below, X("name", makeXSolver, "help"), which declares the
+// factory and lists it (common/family_registry.hpp says why not a self-registering object).
+#include "common/family_registry.hpp"
+#include "sensors/attitude/wahba.hpp"
 
-#include "sensors/attitude/wahba_math.hpp"
+// clang-format off
+#define ST_WAHBA_SOLVERS(X)                                                                     \
+  X("triad", makeTriadSolver, "TRIAD from the two most informative vectors (not optimal; Shuster & Oh covariance)") \
+  X("qmethod", makeQMethodSolver, "Davenport's q-method: symmetric 4x4 eigen-decomposition of K (reference)") \
+  X("quest", makeQuestSolver, "QUEST: Newton on K's characteristic equation, sequential rotations near 180 deg") \
+  X("esoq2", makeEsoq2Solver, "ESOQ-2 (Mortari): rotation axis from the 3x3 null space, 180 deg frame turn") \
+  X("svd", makeSvdSolver, "Markley's SVD of the attitude profile matrix B (most robust)")        \
+  X("foam", makeFoamSolver, "FOAM (Markley): optimal matrix from B, det B and adj B without an SVD")
+// clang-format on
 
 namespace st {
+
+#define ST_DECLARE_WAHBA_FACTORY(name, factory, help) WahbaSolver::Make factory;
+ST_WAHBA_SOLVERS(ST_DECLARE_WAHBA_FACTORY)
+
 namespace {
 
-struct Entry {
-  const char* name;
-  const char* help;
-  std::unique_ptr<WahbaSolver> (*make)();
-};
-
-const Entry kSolvers[] = {
-    {"triad", "TRIAD from the two most informative vectors (not optimal; Shuster & Oh covariance)",
-     &makeTriadSolver},
-    {"qmethod", "Davenport's q-method: symmetric 4x4 eigen-decomposition of K (reference)",
-     &makeQMethodSolver},
-    {"quest", "QUEST: Newton on K's characteristic equation, sequential rotations near 180 deg",
-     &makeQuestSolver},
-    {"esoq2", "ESOQ-2 (Mortari): rotation axis from the 3x3 null space, 180 deg frame turn",
-     &makeEsoq2Solver},
-    {"svd", "Markley's SVD of the attitude profile matrix B (most robust)", &makeSvdSolver},
-    {"foam", "FOAM (Markley): optimal matrix from B, det B and adj B without an SVD",
-     &makeFoamSolver},
-};
+FamilyRegistry<WahbaSolver::Factory>& registry() {
+  static FamilyRegistry<WahbaSolver::Factory> r("Wahba solver",
+                                                {ST_WAHBA_SOLVERS(ST_FAMILY_TABLE_ENTRY)});
+  return r;
+}
 
 }  // namespace
 
-std::unique_ptr<WahbaSolver> WahbaSolver::create(const std::string& name, std::string* error) {
-  for (const Entry& e : kSolvers)
-    if (name == e.name) return e.make();
-  if (error) {
-    std::ostringstream os;
-    os << "unknown Wahba solver '" << name << "'; valid:";
-    for (const Entry& e : kSolvers) os << ' ' << e.name;
-    *error = os.str();
-  }
-  return nullptr;
+void WahbaSolver::registerMember(const std::string& name, const std::string& help,
+                                 Factory make) {
+  registry().add({name, help, make});
 }
 
-std::vector<std::string> WahbaSolver::names() {
-  std::vector<std::string> out;
-  for (const Entry& e : kSolvers) out.emplace_back(e.name);
-  return out;
+std::unique_ptr<WahbaSolver> WahbaSolver::create(const std::string& name, std::string* error) {
+  return registry().create(name, error);
 }
+
+std::vector<std::string> WahbaSolver::names() { return registry().names(); }
 
 std::string WahbaSolver::defaultName() { return "quest"; }
 
 std::string WahbaSolver::help(const std::string& name) {
-  for (const Entry& e : kSolvers)
-    if (name == e.name) return e.help;
-  return {};
+  const auto* m = registry().find(name);
+  return m ? m->help : std::string();
 }
 
 }  // namespace st

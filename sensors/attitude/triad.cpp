@@ -24,6 +24,7 @@ Mat3 triad(const Vec3& v1, const Vec3& v2) {
 class TriadSolver final : public WahbaSolver {
  public:
   std::string name() const override { return "triad"; }
+  bool minimisesLoss() const override { return false; }  // exact on two vectors only
 
  private:
   WahbaSolution doSolve(const std::vector<VectorObservation>& obs) const override {

@@ -20,7 +20,10 @@
 /// Family: `solve()` validates the input, times the call and keeps the quaternion canonical;
 /// implementers override the private doSolve(), which may assume at least two finite unit vector
 /// pairs with positive finite sigmas and non-parallel geometry. Names and help come from the one
-/// table in registry.cpp.
+/// table in registry.cpp: a new solver is its own file defining `std::unique_ptr<WahbaSolver>
+/// makeXSolver()` plus one line in that table (or, for a solver compiled into an executable,
+/// one ST_REGISTER_FAMILY_MEMBER line, common/family_registry.hpp). The shared property suite
+/// (tests/support/wahba_test_utils.hpp) runs over every registered name.
 #pragma once
 #include <memory>
 #include <string>
@@ -52,6 +55,14 @@ class WahbaSolver {  // r ~= R(q_ib) * b
   /// parallel); on bad input returns ok = false with the reason, never throws.
   WahbaSolution solve(const std::vector<VectorObservation>& obs) const;  // non-virtual entry
   virtual std::string name() const = 0;
+  /// True for the optimal solvers, whose loss is Wahba's minimum (2 * loss ~ chi-square
+  /// (2n - 3) under the QMM); a sub-optimal one (TRIAD) overrides it with false.
+  virtual bool minimisesLoss() const { return true; }
+
+  using Make = std::unique_ptr<WahbaSolver>();  ///< a member's factory (function type)
+  using Factory = Make*;
+  /// Runtime hook behind ST_REGISTER_FAMILY_MEMBER (common/family_registry.hpp).
+  static void registerMember(const std::string& name, const std::string& help, Factory make);
   /// nullptr and *error = "unknown ... valid: ..." for an unknown name.
   static std::unique_ptr<WahbaSolver> create(const std::string& name, std::string* error = nullptr);
   static std::vector<std::string> names();  // from the one registry table

@@ -1,7 +1,7 @@
 /// @file wahba_math.hpp
 /// Internal to sensors/attitude: the quantities every Wahba solver shares (attitude profile
 /// matrix B, Davenport's K terms, the characteristic-equation root, the Fisher covariance,
-/// reference-frame rotations by 180 deg) and the solvers' factories for registry.cpp.
+/// reference-frame rotations by 180 deg).
 ///
 /// Notation of the seeds: the attitude matrix A = R_ib^T maps inertial to body, b_k = A r_k.
 /// Shuster's quaternion [q_v; q_4] of A, with K as in seed 001 eq. 42-45, has the same four
@@ -70,13 +70,3 @@ Quat undoTurn(const Quat& q_ib_turned, int axis);
 Quat quatFromAttitudeMatrix(const Mat3& A);
 
 }  // namespace st::wahba_detail
-
-namespace st {
-// Factories, one per solver file; registry.cpp lists them.
-std::unique_ptr<WahbaSolver> makeTriadSolver();
-std::unique_ptr<WahbaSolver> makeQMethodSolver();
-std::unique_ptr<WahbaSolver> makeQuestSolver();
-std::unique_ptr<WahbaSolver> makeEsoq2Solver();
-std::unique_ptr<WahbaSolver> makeSvdSolver();
-std::unique_ptr<WahbaSolver> makeFoamSolver();
-}  // namespace st

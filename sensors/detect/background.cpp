@@ -146,15 +146,32 @@ double BackgroundModel::sigmaAt(double x, double y) const {
 
 BackgroundModel estimateBackground(const cv::Mat& image, int tile, int samples,
                                    double sigma_floor) {
+  BackgroundModel m;
+  estimateBackground(image, tile, samples, sigma_floor, m);
+  return m;
+}
+
+// Median of `v` through `tmp` (reused, so no allocation per frame).
+static float medianOf(const std::vector<float>& v, std::vector<float>& tmp) {
+  tmp.assign(v.begin(), v.end());
+  const auto mid = tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2);
+  std::nth_element(tmp.begin(), mid, tmp.end());
+  return *mid;
+}
+
+void estimateBackground(const cv::Mat& image, int tile, int samples, double sigma_floor,
+                        BackgroundModel& m) {
   CV_Assert(image.channels() == 1 && (image.depth() == CV_8U || image.depth() == CV_16U));
   const double floor = std::max(sigma_floor, 0.3);
-  BackgroundModel m;
   thread_local std::vector<float> buf;
   if (tile <= 0 || (tile >= image.cols && tile >= image.rows)) {
+    m.tile = m.tiles_x = m.tiles_y = 0;
+    m.tile_level.clear();
+    m.tile_sigma.clear();
     sampleAny(image, samples * 16, buf);
     robustLevelSigma(buf, m.level, m.sigma);
     m.sigma = std::max(m.sigma, floor);
-    return m;
+    return;
   }
   m.tile = tile;
   m.tiles_x = (image.cols + tile - 1) / tile;
@@ -172,13 +189,8 @@ BackgroundModel estimateBackground(const cv::Mat& image, int tile, int samples,
       m.tile_level[k] = static_cast<float>(lv);
       m.tile_sigma[k] = static_cast<float>(std::max(sg, floor));
     }
-  std::vector<float> tmp = m.tile_level;
-  std::nth_element(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2), tmp.end());
-  m.level = tmp[tmp.size() / 2];
-  tmp = m.tile_sigma;
-  std::nth_element(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(tmp.size() / 2), tmp.end());
-  m.sigma = tmp[tmp.size() / 2];
-  return m;
+  m.level = medianOf(m.tile_level, buf);
+  m.sigma = medianOf(m.tile_sigma, buf);
 }
 
 }  // namespace st

@@ -27,6 +27,9 @@ struct BackgroundModel {
 /// quantisation noise, so a flat frame still has a threshold above its level).
 BackgroundModel estimateBackground(const cv::Mat& image, int tile, int samples,
                                    double sigma_floor);
+/// The same into `out`, reusing its tile vectors (no allocation frame after frame).
+void estimateBackground(const cv::Mat& image, int tile, int samples, double sigma_floor,
+                        BackgroundModel& out);
 
 /// Median and IQR / 1.349 of the samples `v` (non-empty; reordered), read as grouped data:
 /// whole-number samples stand for their rounding interval, whose width is the quantisation

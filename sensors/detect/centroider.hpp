@@ -5,7 +5,11 @@
 ///   "iwc"   iterative weighted centroid: CoG with a Gaussian weight re-centred until fixed
 ///   "gauss" maximum-likelihood fit of the pixel-integrated Gaussian PSF (seed 004 §4.2.2)
 /// Implementers override doCentroid(); names and help come from the one registry table in
-/// centroider_registry.cpp.
+/// centroider_registry.cpp. A new centroider is its own file defining
+/// `std::unique_ptr<Centroider> makeXCentroider()` in namespace st plus one line in that table
+/// (or one ST_REGISTER_FAMILY_MEMBER line for a centroider compiled into an executable,
+/// common/family_registry.hpp); tests/detect's accuracy suite runs over every registered name.
+/// Centroiders are stateless (centroid() is const and thread-safe).
 #pragma once
 #include <memory>
 #include <string>
@@ -55,14 +59,13 @@ class Centroider {
   static std::vector<std::string> names();
   static std::string help();  ///< one line per centroider
 
+  using Make = std::unique_ptr<Centroider>();  ///< a member's factory (function type)
+  using Factory = Make*;
+  /// Runtime hook behind ST_REGISTER_FAMILY_MEMBER (common/family_registry.hpp).
+  static void registerMember(const std::string& name, const std::string& help, Factory make);
+
  private:
   virtual bool doCentroid(const StarPatch& patch, Centroid& out, std::string* reason) const = 0;
 };
-
-// Members of the family (one file each), for the registry and for callers who want one
-// directly.
-std::unique_ptr<Centroider> makeCogCentroider();
-std::unique_ptr<Centroider> makeIwcCentroider();
-std::unique_ptr<Centroider> makeGaussFitCentroider();
 
 }  // namespace st

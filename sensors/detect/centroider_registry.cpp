@@ -1,27 +1,36 @@
-// The one table of centroiders: names, help and factories come from here.
-#include <sstream>
-
+// The one table of centroiders: names, help, CLI choices and factories come from here.
+// A new centroider: its own file defining `std::unique_ptr<Centroider> makeXCentroider()` in
+// namespace st, plus ONE line below, X("name", makeXCentroider, "help"), which declares the
+// factory and lists it (common/family_registry.hpp says why not a self-registering object).
+#include "common/family_registry.hpp"
 #include "sensors/detect/centroider.hpp"
 
+// clang-format off
+#define ST_CENTROIDERS(X)                                                                       \
+  X("cog", makeCogCentroider, "intensity-weighted centre of gravity, background removed (fastest)") \
+  X("iwc", makeIwcCentroider, "iterative weighted centroid with a Gaussian window (robust to wings and noise)") \
+  X("gauss", makeGaussFitCentroider, "maximum-likelihood fit of the pixel-integrated Gaussian PSF (most accurate)")
+// clang-format on
+
 namespace st {
+
+#define ST_DECLARE_CENTROIDER_FACTORY(name, factory, help) Centroider::Make factory;
+ST_CENTROIDERS(ST_DECLARE_CENTROIDER_FACTORY)
+
 namespace {
 
-struct Entry {
-  const char* name;
-  const char* help;
-  std::unique_ptr<Centroider> (*make)();
-};
-
-const Entry kCentroiders[] = {
-    {"cog", "intensity-weighted centre of gravity, background removed (fastest)",
-     &makeCogCentroider},
-    {"iwc", "iterative weighted centroid with a Gaussian window (robust to wings and noise)",
-     &makeIwcCentroider},
-    {"gauss", "maximum-likelihood fit of the pixel-integrated Gaussian PSF (most accurate)",
-     &makeGaussFitCentroider},
-};
+FamilyRegistry<Centroider::Factory>& registry() {
+  static FamilyRegistry<Centroider::Factory> r("centroider",
+                                               {ST_CENTROIDERS(ST_FAMILY_TABLE_ENTRY)});
+  return r;
+}
 
 }  // namespace
+
+void Centroider::registerMember(const std::string& name, const std::string& help,
+                                Factory make) {
+  registry().add({name, help, make});
+}
 
 bool Centroider::centroid(const StarPatch& patch, Centroid& out, std::string* reason) const {
   if (patch.values.empty()) {
@@ -41,27 +50,15 @@ bool Centroider::centroid(const StarPatch& patch, Centroid& out, std::string* re
 }
 
 std::unique_ptr<Centroider> Centroider::create(const std::string& name, std::string* error) {
-  for (const Entry& e : kCentroiders)
-    if (name == e.name) return e.make();
-  if (error) {
-    std::ostringstream os;
-    os << "unknown centroider '" << name << "'; valid:";
-    for (const Entry& e : kCentroiders) os << ' ' << e.name;
-    *error = os.str();
-  }
-  return nullptr;
+  return registry().create(name, error);
 }
 
-std::vector<std::string> Centroider::names() {
-  std::vector<std::string> out;
-  for (const Entry& e : kCentroiders) out.emplace_back(e.name);
-  return out;
-}
+std::vector<std::string> Centroider::names() { return registry().names(); }
 
 std::string Centroider::help() {
-  std::ostringstream os;
-  for (const Entry& e : kCentroiders) os << "  " << e.name << ": " << e.help << '\n';
-  return os.str();
+  std::string s;
+  for (const auto& m : registry().members()) s += "  " + m.name + ": " + m.help + "\n";
+  return s;
 }
 
 }  // namespace st

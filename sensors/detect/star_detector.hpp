@@ -1,12 +1,17 @@
 /// @file star_detector.hpp
 /// Star detection and centroiding (seed 004 ch. 4): background and noise, threshold at
 /// k sigma, optional pre-filter, blobs (8-connected), per-star centroid with covariance.
-///   detectStars      full frame, when lost (lost-in-space);
-///   centroidWindows  only small windows around predicted stars, when tracking (§4.2.3).
+///   StarDetector::detect           full frame, when lost (lost-in-space);
+///   StarDetector::centroidWindows  only small windows around predicted stars, when tracking
+///                                  (§4.2.3).
 /// Input: 8- or 16-bit grey cv::Mat (colour is converted to grey) or an mrpt::img::CImage
-/// (read through asCvMatRef(), no copy). Bad images give an empty result with a reason,
-/// bad options throw InputError naming the field.
+/// (read through asCvMatRef(), no copy). Bad images give an empty result with a reason.
+/// Options are validated once, when the StarDetector is built; the free functions
+/// detectStars / centroidWindows are convenience wrappers that build one per call (and so
+/// validate, throwing InputError naming the field, and allocate every time): per-frame code
+/// keeps a StarDetector.
 #pragma once
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +27,11 @@ class CImage;
 
 namespace st {
 
+class Centroider;
+namespace detect_detail {
+struct Scratch;
+}
+
 struct DetectionResult {
   std::vector<Centroid> stars;  ///< brightest first, at most opts.max_stars
   std::string reason;           ///< empty = ok; otherwise why there are no stars
@@ -32,8 +42,6 @@ struct DetectionResult {
   int duplicates = 0;           ///< centroids dropped as the same star as a brighter one
 };
 
-DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts = {});
-DetectionResult detectStars(const mrpt::img::CImage& image, const DetectorOptions& opts = {});
 
 /// A star expected on the image: where, how sure (covariance), and the streak its image
 /// draws during the exposure (blur vector, from the body rate).
@@ -56,6 +64,53 @@ struct WindowResult {
 /// Half-size [px] of the search window of a predicted star: window_sigmas * sqrt(largest
 /// eigenvalue of cov) + PSF radius (3 sigma) + half the blur length, capped.
 int windowHalfSize(const PredictedStar& p, const DetectorOptions& opts);
+
+/// Detection with options validated once. Owns its centroiders and scratch buffers, so the
+/// per-frame calls validate nothing, throw nothing (bad images give a reason) and, once the
+/// buffers have grown to the largest frame, allocate only what they return.
+/// Not thread-safe (the scratch buffers): one detector per thread.
+class StarDetector {
+ public:
+  /// Throws InputError naming the field when `opts` is invalid (the construction edge).
+  explicit StarDetector(const DetectorOptions& opts);
+  /// The same without throwing: nullptr and *why for invalid options.
+  static std::unique_ptr<StarDetector> create(const DetectorOptions& opts, std::string* why);
+  /// Like the first, with scratch buffers shared with other detectors of this thread (the
+  /// free functions' one-shot detectors keep their buffers warm this way). Detectors sharing
+  /// scratch must not run concurrently.
+  StarDetector(const DetectorOptions& opts, std::shared_ptr<detect_detail::Scratch> scratch);
+  ~StarDetector();
+  StarDetector(StarDetector&&) noexcept;
+  StarDetector& operator=(StarDetector&&) noexcept;
+
+  const DetectorOptions& options() const { return opts_; }
+
+  /// Full frame: stars brightest first (at most options().max_stars).
+  DetectionResult detect(const cv::Mat& image);
+  /// The same into `out`, whose star vector keeps its capacity from frame to frame.
+  void detect(const cv::Mat& image, DetectionResult& out);
+  DetectionResult detect(const mrpt::img::CImage& image);
+
+  /// Only the windows (background from each window's border); `out` gets one result per
+  /// predicted star, its capacity reused between calls.
+  void centroidWindows(const cv::Mat& image, const std::vector<PredictedStar>& predicted,
+                       std::vector<WindowResult>& out);
+  void centroidWindows(const mrpt::img::CImage& image,
+                       const std::vector<PredictedStar>& predicted,
+                       std::vector<WindowResult>& out);
+  std::vector<WindowResult> centroidWindows(const cv::Mat& image,
+                                            const std::vector<PredictedStar>& predicted);
+
+ private:
+  DetectorOptions opts_;
+  std::unique_ptr<Centroider> main_;  ///< opts_.centroider
+  std::unique_ptr<Centroider> cog_;   ///< fallback when main_ fails, and for streaks
+  std::shared_ptr<detect_detail::Scratch> scratch_;
+};
+
+/// Convenience wrappers: one StarDetector per call (validates, may throw InputError).
+DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts = {});
+DetectionResult detectStars(const mrpt::img::CImage& image, const DetectorOptions& opts = {});
 
 /// Reads only the windows (background from each window's border).
 std::vector<WindowResult> centroidWindows(const cv::Mat& image,

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
+#include "common/check.hpp"
 #include "common/conventions.hpp"
 #include "sensors/identify/search_context.hpp"
 
@@ -118,14 +120,43 @@ bool SearchContext::done() const {
 
 // ---- StarIdentifier --------------------------------------------------------------------------
 
+bool IdentifyOptions::isValid(std::string* why) const {
+  std::ostringstream e;
+  auto bad = [&](const char* key, double v, const char* want) {
+    e << "IdentifyOptions." << key << " = " << v << ": " << want;
+  };
+  std::string inner;
+  if (!(pair_sigma > 0))
+    bad("pair_sigma", pair_sigma, "must be > 0");
+  else if (!(scale_tolerance >= 0 && scale_tolerance < 1))
+    bad("scale_tolerance", scale_tolerance, "must be in [0, 1)");
+  else if (max_stars < 3)
+    bad("max_stars", max_stars, "must be >= 3");
+  else if (max_stars_retry < 0)
+    bad("max_stars_retry", max_stars_retry, "must be >= 0 (<= max_stars: no retry)");
+  else if (max_verifications < 1)
+    bad("max_verifications", max_verifications, "must be >= 1");
+  else if (max_candidates < 1)
+    bad("max_candidates", static_cast<double>(max_candidates), "must be >= 1");
+  else if (!WahbaSolver::create(solver, &inner))
+    e << "IdentifyOptions.solver: " << inner;
+  else if (!verify.isValid(&inner))
+    e << "IdentifyOptions.verify: " << inner;
+  const std::string msg = e.str();
+  if (why) *why = msg;
+  return msg.empty();
+}
+
 struct StarIdentifier::Scratch {
   std::vector<PartnerLists> lists = std::vector<PartnerLists>(4);
   std::vector<StarCounter> counters = std::vector<StarCounter>(4);
-  std::unique_ptr<WahbaSolver> solver;
-  std::string solver_name;
 };
 
-StarIdentifier::StarIdentifier(const IdentifyOptions& options) : options_(options) {}
+StarIdentifier::StarIdentifier(const IdentifyOptions& options)
+    : options_(options), solver_(WahbaSolver::create(options.solver)),
+      scratch_(std::make_unique<Scratch>()) {
+  ST_ASSERT(solver_ != nullptr);  // options validated by create()
+}
 StarIdentifier::~StarIdentifier() = default;
 
 IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
@@ -141,17 +172,8 @@ IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
     res.timing.pattern_ms = std::max(0.0, res.timing.total_ms - res.timing.verify_ms);
     return res;
   };
-  if (!scratch_) scratch_ = std::make_unique<Scratch>();
+  ST_ASSERT(options_.solver == solver_->name());  // fixed at construction
   Scratch& sc = *scratch_;
-  if (!sc.solver || sc.solver_name != options_.solver) {
-    std::string err;
-    sc.solver = WahbaSolver::create(options_.solver, &err);
-    sc.solver_name = options_.solver;
-    if (!sc.solver) {
-      res.reason = "unknown attitude solver '" + options_.solver + "': " + err;
-      return finish();
-    }
-  }
   const int n = std::min<int>(static_cast<int>(obs.size()), std::max(3, options_.max_stars));
   res.stars_used = n;
   if (n < minStars() || static_cast<int>(obs.size()) < options_.verify.min_matches) {
@@ -165,7 +187,7 @@ IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
 
   VerifyOptions vopt = options_.verify;
   vopt.scale_tolerance = std::max(vopt.scale_tolerance, options_.scale_tolerance);
-  const Verifier verifier(db, camera, *sc.solver, vopt);
+  const Verifier verifier(db, camera, *solver_, vopt);
   SearchContext ctx(obs, db, camera, options_, verifier, n, sc.lists, sc.counters);
   doIdentify(ctx);
   // Bright false stars (or missing catalog stars) can spoil every pattern among the

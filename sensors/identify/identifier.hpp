@@ -7,7 +7,14 @@
 /// threshold. An implementer overrides doIdentify() and calls ctx.tryHypothesis().
 ///
 /// Algorithms (one registry table, registry.cpp): "pyramid" (default), "voting", "liebe",
-/// "planar", "spherical", "nvertex". Star pairs come from StarDatabase::pairsInRange (the
+/// "planar", "spherical", "nvertex". A new one is its own file defining
+/// `std::unique_ptr<StarIdentifier> identify_detail::makeX(const IdentifyOptions&)` plus one
+/// line in that table (or one ST_REGISTER_FAMILY_MEMBER line for an algorithm compiled into
+/// an executable, common/family_registry.hpp); tests/identify's shared suite runs over every
+/// registered name.
+///
+/// Failures: bad options (an unknown solver name included) are refused once, by create();
+/// identify() then only returns outcomes (IdentifyStatus). Star pairs come from StarDatabase::pairsInRange (the
 /// k-vector) with a tolerance of `pair_sigma` standard deviations of the inter-star angle.
 ///
 /// Thread safety: an identifier keeps scratch buffers between calls; use one per thread.
@@ -43,6 +50,10 @@ struct IdentifyOptions {
   long max_candidates = 2000000; ///< pattern candidates examined before giving up
   std::string solver = "quest";  ///< Wahba solver (sensors/attitude/wahba.hpp)
   VerifyOptions verify;          ///< scale_tolerance is copied from above
+
+  /// True when all values are usable (the solver name included); otherwise false with `why`
+  /// naming the field.
+  bool isValid(std::string* why = nullptr) const;
 };
 
 struct IdentifyTimings {
@@ -80,9 +91,12 @@ class StarIdentifier {
 
   virtual std::string name() const = 0;
   const IdentifyOptions& options() const { return options_; }
+  /// For temporary tolerance changes (FOV search). The solver is fixed at construction:
+  /// changing options().solver afterwards is a bug (asserted in identify()).
   IdentifyOptions& mutableOptions() { return options_; }
 
-  /// nullptr (and *error set) for an unknown name.
+  /// nullptr (and *error set) for an unknown name or invalid options (an unknown solver
+  /// name included): the only place where identification options are validated.
   static std::unique_ptr<StarIdentifier> create(const std::string& name,
                                                 const IdentifyOptions& options = {},
                                                 std::string* error = nullptr);
@@ -90,7 +104,14 @@ class StarIdentifier {
   static std::string help();                ///< "name: one line" per algorithm
   static std::string defaultName() { return "pyramid"; }
 
+  using Make = std::unique_ptr<StarIdentifier>(const IdentifyOptions&);  ///< a member's factory
+  using Factory = Make*;
+  /// Runtime hook behind ST_REGISTER_FAMILY_MEMBER (common/family_registry.hpp).
+  static void registerMember(const std::string& name, const std::string& help, Factory make);
+
  protected:
+  /// Precondition: options.isValid() (create() checks it; a factory called with invalid
+  /// options is a bug).
   explicit StarIdentifier(const IdentifyOptions& options);
   /// Smallest number of observations the algorithm needs.
   virtual int minStars() const { return 4; }
@@ -100,6 +121,7 @@ class StarIdentifier {
   IdentifyResult finishResult(SearchContext& ctx, IdentifyResult res,
                               std::chrono::steady_clock::time_point t0) const;
   IdentifyOptions options_;
+  std::unique_ptr<WahbaSolver> solver_;  ///< options_.solver, made once at construction
   struct Scratch;
   mutable std::unique_ptr<Scratch> scratch_;
 };

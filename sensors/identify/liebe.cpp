@@ -114,8 +114,11 @@ class LiebeIdentifier final : public StarIdentifier {
 
 }  // namespace
 
-std::unique_ptr<StarIdentifier> identify_detail::makeLiebe(const IdentifyOptions& o) {
+// The factory the registry table (registry.cpp) names.
+namespace identify_detail {
+std::unique_ptr<StarIdentifier> makeLiebe(const IdentifyOptions& o) {
   return std::make_unique<LiebeIdentifier>(o);
 }
+}  // namespace identify_detail
 
 }  // namespace st

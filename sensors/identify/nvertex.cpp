@@ -62,8 +62,11 @@ class NVertexIdentifier final : public StarIdentifier {
 
 }  // namespace
 
-std::unique_ptr<StarIdentifier> identify_detail::makeNVertex(const IdentifyOptions& o) {
+// The factory the registry table (registry.cpp) names.
+namespace identify_detail {
+std::unique_ptr<StarIdentifier> makeNVertex(const IdentifyOptions& o) {
   return std::make_unique<NVertexIdentifier>(o);
 }
+}  // namespace identify_detail
 
 }  // namespace st

@@ -20,21 +20,12 @@ class PyramidIdentifier final : public StarIdentifier {
     std::vector<StarMatch> seeds(4);
     identify_detail::forEachTriangle(ctx.n, [&](int i, int j, int k) {
       if (ctx.done()) return true;
-      // Catalog triangles (a, b, c): (a,b) from the i-j slice, c a partner of a in the i-k
-      // slice, side b-c checked directly, mirror images rejected.
-      const PairSlice sij = ctx.slice(i, j);
-      ctx.addAttitudes(2.0 * sij.size());
-      PartnerLists& lik = ctx.lists(0);
-      lik.build(ctx.slice(i, k));
       tris.clear();
-      for (const StarPair* p = sij.begin; p != sij.end; ++p)
-        for (int o = 0; o < 2; ++o) {
-          const uint32_t a = o ? p->b : p->a, b = o ? p->a : p->b;
-          lik.forEach(a, [&](uint32_t c) {
-            if (c != b && ctx.angleMatches(j, k, b, c) && ctx.sameHandedness(i, j, k, a, b, c))
-              tris.push_back({a, b, c});
-          });
-        }
+      identify_detail::forEachCatalogTriangle(ctx, i, j, k,
+                                              [&](uint32_t a, uint32_t b, uint32_t c) {
+                                                tris.push_back({a, b, c});
+                                                return false;  // all of them
+                                              });
       if (tris.empty()) return false;
       // Confirm with a 4th star r: a catalog star d at the right angles from a, b and c.
       PartnerLists& lir = ctx.lists(1);
@@ -65,8 +56,11 @@ class PyramidIdentifier final : public StarIdentifier {
 
 }  // namespace
 
-std::unique_ptr<StarIdentifier> identify_detail::makePyramid(const IdentifyOptions& o) {
+// The factory the registry table (registry.cpp) names.
+namespace identify_detail {
+std::unique_ptr<StarIdentifier> makePyramid(const IdentifyOptions& o) {
   return std::make_unique<PyramidIdentifier>(o);
 }
+}  // namespace identify_detail
 
 }  // namespace st

@@ -84,12 +84,15 @@ class TriangleIdentifier final : public StarIdentifier {
 
 }  // namespace
 
-std::unique_ptr<StarIdentifier> identify_detail::makePlanarTriangle(const IdentifyOptions& o) {
+// The factory the registry table (registry.cpp) names.
+namespace identify_detail {
+std::unique_ptr<StarIdentifier> makePlanarTriangle(const IdentifyOptions& o) {
   return std::make_unique<TriangleIdentifier>(o, false);
 }
-std::unique_ptr<StarIdentifier> identify_detail::makeSphericalTriangle(
+std::unique_ptr<StarIdentifier> makeSphericalTriangle(
     const IdentifyOptions& o) {
   return std::make_unique<TriangleIdentifier>(o, true);
 }
+}  // namespace identify_detail
 
 }  // namespace st

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 
 #include "common/conventions.hpp"
 #include "sensors/attitude/drop_worst.hpp"
@@ -22,6 +23,36 @@ double binomialUpperTail(int n, int m, double p) {
     sum += std::exp(log_term);
   }
   return std::min(1.0, sum);
+}
+
+bool VerifyOptions::isValid(std::string* why) const {
+  std::ostringstream e;
+  auto bad = [&](const char* key, double v, const char* want) {
+    e << "VerifyOptions." << key << " = " << v << ": " << want;
+  };
+  if (!(gate_sigma > 0))
+    bad("gate_sigma", gate_sigma, "must be > 0");
+  else if (!(min_gate_px >= 0))
+    bad("min_gate_px", min_gate_px, "must be >= 0");
+  else if (!(scale_tolerance >= 0 && scale_tolerance < 1))
+    bad("scale_tolerance", scale_tolerance, "must be in [0, 1)");
+  else if (!(false_match_threshold > 0 && false_match_threshold <= 1))
+    bad("false_match_threshold", false_match_threshold, "must be in (0, 1]");
+  else if (min_matches < 3)
+    bad("min_matches", min_matches, "must be >= 3 (two stars fit any attitude)");
+  else if (refine_iterations < 1)
+    bad("refine_iterations", refine_iterations, "must be >= 1");
+  else if (!(edge_margin_px >= 0))
+    bad("edge_margin_px", edge_margin_px, "must be >= 0");
+  else if (!(residual_alpha > 0 && residual_alpha < 1))
+    bad("residual_alpha", residual_alpha, "must be in (0, 1)");
+  else if (!(near_miss_factor >= 1))
+    bad("near_miss_factor", near_miss_factor, "must be >= 1");
+  else if (!(max_outlier_fraction >= 0 && max_outlier_fraction <= 1))
+    bad("max_outlier_fraction", max_outlier_fraction, "must be in [0, 1]");
+  const std::string msg = e.str();
+  if (why) *why = msg;
+  return msg.empty();
 }
 
 Verifier::Verifier(const StarDatabase& db, const CameraModel& camera, const WahbaSolver& solver,

@@ -66,6 +66,9 @@ struct VerifyOptions {
   double near_miss_factor = 4.0;///< near-miss radius in gate radii
   double max_outlier_fraction = 0.25;  ///< more outliers removed than this fraction of the
                                        ///< kept matches (and more than 2) -> rejected
+
+  /// True when all values are usable; otherwise false with `why` naming the field.
+  bool isValid(std::string* why = nullptr) const;
 };
 
 struct VerificationResult {

@@ -71,8 +71,11 @@ class VotingIdentifier final : public StarIdentifier {
 
 }  // namespace
 
-std::unique_ptr<StarIdentifier> identify_detail::makeVoting(const IdentifyOptions& o) {
+// The factory the registry table (registry.cpp) names.
+namespace identify_detail {
+std::unique_ptr<StarIdentifier> makeVoting(const IdentifyOptions& o) {
   return std::make_unique<VotingIdentifier>(o);
 }
+}  // namespace identify_detail
 
 }  // namespace st

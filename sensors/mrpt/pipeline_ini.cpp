@@ -55,8 +55,8 @@ void readTrackerOptions(const IniReader& r, const std::string& sec, TrackerOptio
 
   // The name checks first: they name their own key.
   std::string err;
-  if (!StarIdentifier::create(o.lis_algorithm, o.identify, &err))
-    throw InputError(r.where(sec, "lis_algorithm") + " = '" + o.lis_algorithm + "': " + err);
+  // The solvers first: StarIdentifier::create validates o.identify (its solver included),
+  // and a bad identify_solver must be reported under its own key.
   if (!WahbaSolver::create(o.solver, &err))
     throw InputError(r.where(sec, "solver") + " = '" + o.solver + "': " + err);
   if (!WahbaSolver::create(o.identify.solver, &err)) {

@@ -1,7 +1,8 @@
 // Speed of detection + centroiding on ONE core (cv::setNumThreads(1) before anything runs;
 // run pinned: `taskset -c 0 bench_detect`): each of the eight real 1024x768 16-bit tetra3
 // frames (per-frame times, the issue's target is on every frame), all eight in turn for each
-// centroider, a 2048x1536 frame (a real frame upscaled 2x), and 20 predictive windows.
+// centroider, a 2048x1536 frame (a real frame upscaled 2x), and 20 predictive windows; the
+// "_detector" variants reuse one StarDetector (per-frame code) instead of the free functions.
 // Targets of issue 5 in the `target_us` counter (read by scripts/benchmarks_to_md.py).
 #include <benchmark/benchmark.h>
 
@@ -50,21 +51,32 @@ void BM_DetectRealFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DetectRealFrame)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
 
-void BM_DetectReal1024x768(benchmark::State& state, std::string centroider) {
+// `detector`: one StarDetector built before the loop and one result reused (what per-frame
+// code does: no validation, centroider creation or result allocation per call) instead of
+// the one-shot detectStars().
+void BM_DetectReal1024x768(benchmark::State& state, std::string centroider, bool detector) {
   st::DetectorOptions o;
   o.centroider = centroider;
+  st::StarDetector det(o);
+  st::DetectionResult r;  // reused by the detector: its star vector keeps its capacity
   std::size_t k = 0, stars = 0;
   for (auto _ : state) {
-    const auto r = st::detectStars(frames()[k++ % frames().size()], o);
+    const cv::Mat& img = frames()[k++ % frames().size()];
+    if (detector)
+      det.detect(img, r);
+    else
+      r = st::detectStars(img, o);
     stars += r.stars.size();
     benchmark::DoNotOptimize(r);
   }
   state.counters["stars"] = static_cast<double>(stars) / static_cast<double>(state.iterations());
   state.counters["target_us"] = kTargetFrameUs;
 }
-BENCHMARK_CAPTURE(BM_DetectReal1024x768, gauss, std::string("gauss"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DetectReal1024x768, iwc, std::string("iwc"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DetectReal1024x768, cog, std::string("cog"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DetectReal1024x768, gauss, std::string("gauss"), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DetectReal1024x768, iwc, std::string("iwc"), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DetectReal1024x768, cog, std::string("cog"), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DetectReal1024x768, gauss_detector, std::string("gauss"), true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_DetectReal1024x768, cog_detector, std::string("cog"), true)->Unit(benchmark::kMillisecond);
 
 void BM_Detect2048x1536(benchmark::State& state) {
   cv::Mat big;
@@ -81,7 +93,8 @@ void BM_Detect2048x1536(benchmark::State& state) {
 BENCHMARK(BM_Detect2048x1536)->Unit(benchmark::kMillisecond);
 
 // Tracking: the 20 brightest stars of a real frame predicted 0.7 px off with a 1 px sigma.
-void BM_Windows20(benchmark::State& state, std::string centroider) {
+// `detector`: one StarDetector and one result vector reused, instead of centroidWindows().
+void BM_Windows20(benchmark::State& state, std::string centroider, bool detector) {
   const cv::Mat& img = frames()[0];
   st::DetectorOptions o;
   o.max_stars = 20;
@@ -90,9 +103,14 @@ void BM_Windows20(benchmark::State& state, std::string centroider) {
     pred.push_back({s.px + st::Vec2(0.7, -0.5), st::Mat2::Identity() * 1.0, st::Vec2::Zero()});
   o = {};
   o.centroider = centroider;
+  st::StarDetector det(o);
+  std::vector<st::WindowResult> r;
   std::size_t found = 0;
   for (auto _ : state) {
-    const auto r = st::centroidWindows(img, pred, o);
+    if (detector)
+      det.centroidWindows(img, pred, r);
+    else
+      r = st::centroidWindows(img, pred, o);
     for (const auto& w : r) found += w.centroid.has_value();
     benchmark::DoNotOptimize(r);
   }
@@ -100,9 +118,12 @@ void BM_Windows20(benchmark::State& state, std::string centroider) {
   state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
   state.counters["target_us"] = kTargetWindowsUs;
 }
-BENCHMARK_CAPTURE(BM_Windows20, gauss, std::string("gauss"))->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_Windows20, iwc, std::string("iwc"))->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_Windows20, cog, std::string("cog"))->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, gauss, std::string("gauss"), false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, iwc, std::string("iwc"), false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, cog, std::string("cog"), false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, gauss_detector, std::string("gauss"), true)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, iwc_detector, std::string("iwc"), true)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Windows20, cog_detector, std::string("cog"), true)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -97,8 +97,11 @@ TEST(Inputs, EightBitColourAndCImageAgree) {
 }
 
 TEST(Inputs, RegistryListsAllCentroiders) {
+  // The library's table first, in order; members registered by this test executable follow.
   const auto names = Centroider::names();
-  EXPECT_EQ(names, (std::vector<std::string>{"cog", "iwc", "gauss"}));
+  ASSERT_GE(names.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + 3),
+            (std::vector<std::string>{"cog", "iwc", "gauss"}));
   for (const auto& n : names) EXPECT_NE(Centroider::help().find(n), std::string::npos);
   std::string err;
   EXPECT_EQ(Centroider::create("nope", &err), nullptr);

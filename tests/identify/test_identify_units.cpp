@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "common/conventions.hpp"
 #include "sensors/identify/identifier.hpp"
@@ -57,16 +60,59 @@ TEST(TriangleFeatures, OctantAndSmallTriangle) {
 
 TEST(IdentifierRegistry, NamesCreateAndUnknown) {
   const auto names = StarIdentifier::names();
-  ASSERT_EQ(names.size(), 6u);
+  // The library's table first, in order (default first); members registered by this test
+  // executable (registered_in_test_identifier.cpp) follow.
+  const std::vector<std::string> lib = {"pyramid", "voting", "liebe", "planar", "spherical",
+                                        "nvertex"};
+  ASSERT_GE(names.size(), lib.size());
+  EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + lib.size()), lib);
   EXPECT_EQ(names.front(), StarIdentifier::defaultName());
   for (const auto& n : names) {
     auto id = StarIdentifier::create(n);
     ASSERT_TRUE(id) << n;
     EXPECT_EQ(id->name(), n);
+    EXPECT_NE(StarIdentifier::help().find(n + ": "), std::string::npos) << n;
   }
   std::string err;
   EXPECT_FALSE(StarIdentifier::create("tetra", {}, &err));
   EXPECT_NE(err.find("pyramid"), std::string::npos);
+}
+
+// Validation once, at construction: an unknown solver name or a bad tolerance is refused by
+// create() with the field named (it used to come back from every identify() as NoMatch).
+TEST(IdentifierRegistry, InvalidOptionsRefusedAtConstruction) {
+  const std::vector<std::pair<std::string, IdentifyOptions>> cases = [] {
+    std::vector<std::pair<std::string, IdentifyOptions>> c;
+    IdentifyOptions o;
+    o.solver = "nope";
+    c.push_back({"IdentifyOptions.solver", o});
+    o = {};
+    o.pair_sigma = 0;
+    c.push_back({"IdentifyOptions.pair_sigma", o});
+    o = {};
+    o.max_stars = 2;
+    c.push_back({"IdentifyOptions.max_stars", o});
+    o = {};
+    o.verify.gate_sigma = -1;
+    c.push_back({"VerifyOptions.gate_sigma", o});
+    o = {};
+    o.verify.min_matches = 2;
+    c.push_back({"VerifyOptions.min_matches", o});
+    return c;
+  }();
+  for (const auto& [field, o] : cases) {
+    std::string err;
+    EXPECT_FALSE(o.isValid(&err)) << field;
+    EXPECT_NE(err.find(field), std::string::npos) << err;
+    for (const auto& n : StarIdentifier::names()) {
+      err.clear();
+      EXPECT_EQ(StarIdentifier::create(n, o, &err), nullptr) << n << " " << field;
+      EXPECT_NE(err.find(field), std::string::npos) << err;
+    }
+  }
+  std::string err;
+  EXPECT_TRUE(IdentifyOptions{}.isValid(&err)) << err;
+  EXPECT_TRUE(err.empty());
 }
 
 }  // namespace
