@@ -12,7 +12,7 @@
 #include "common/check.hpp"
 #include "common/errors.hpp"
 #include "navigation/truth_scoring.hpp"
-#include "sensors/sim/sim_observations.hpp"
+#include "sensors/mrpt/rawlog_contract.hpp"
 
 namespace st {
 

@@ -1,6 +1,6 @@
 #include "navigation/truth_scoring.hpp"
 
-#include "sensors/sim/sim_observations.hpp"
+#include "sensors/mrpt/rawlog_contract.hpp"
 
 namespace st {
 
@@ -15,9 +15,9 @@ constexpr double kUnresolvedSeparationPx = 2.0;
 
 void scoreIdentities(const CObservationStarTracker& st, const FrameTruth& truth, NavStep& s) {
   for (const MatchedStar& m : st.stars) {
-    const TrueStar* nearest = nullptr;
-    const TrueStar* claimed = nullptr;
-    for (const TrueStar& t : truth.stars) {
+    const TruthStar* nearest = nullptr;
+    const TruthStar* claimed = nullptr;
+    for (const TruthStar& t : truth.stars) {
       if (!nearest || (t.px - m.px).squaredNorm() < (nearest->px - m.px).squaredNorm())
         nearest = &t;
       if (t.id == m.catalog_id) claimed = &t;

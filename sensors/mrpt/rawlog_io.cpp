@@ -14,8 +14,6 @@
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 
-#include "sensors/sim/simulated_sensors.hpp"
-
 namespace st {
 
 namespace fs = std::filesystem;
@@ -27,7 +25,6 @@ void registerStarTrackerClasses() {
     // when reading, and CRawlog stops silently at the first such object.
     mrpt::rtti::registerClass(CLASS_ID(CObservationStarTracker));
     registerStarTrackerSensor();
-    registerSimulatedSensors();
   });
 }
 

@@ -17,8 +17,8 @@
 #include "common/mrpt_convert.hpp"
 #include "config/ini_reader.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
-#include "sensors/sim/scenario.hpp"
-#include "sensors/sim/simulated_sensors.hpp"
+#include "catalog/database_recipe.hpp"
+#include "sensors/mrpt/image_source.hpp"
 
 IMPLEMENTS_GENERIC_SENSOR(CStarTrackerSensor, st)
 
@@ -59,9 +59,16 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
     if (!mrpt::system::fileExists(scenario_file_)) {
       throw InputError(r.where(section, "scenario_file") + ": no such file '" + scenario_file_ + "'");
     }
-    auto sim = std::make_unique<CSimulatedStarCamera>();
-    sim->loadConfig(cfg, section);
-    source_ = std::move(sim);
+    // The simulator is its own plugin: the production sensor creates it by name through
+    // MRPT's factory and never links it.
+    source_.reset(mrpt::hwdrivers::CGenericSensor::createSensor(kSimulatedCameraClass));
+    if (!source_) {
+      throw InputError(r.where(section, "image_source") + " = simulated: the sensor class " +
+                       kSimulatedCameraClass +
+                       " is not registered (load the simulator plugin, e.g. rawlog-grabber -p "
+                       "libstartracker_mrpt.so,libstartracker_sim.so)");
+    }
+    source_->loadConfig(cfg, section);
   } else if (source_kind_ == "camera") {
     if (camera_file_.empty()) {
       throw InputError(r.where(section, "camera_file") +
@@ -118,8 +125,15 @@ void CStarTrackerSensor::initialize() {
   m_state = ssInitializing;
   if (!source_) throw InputError("CStarTrackerSensor: initialize() before loadConfig()");
   const std::string& s = section_;
-  std::optional<Scenario> scenario;
-  if (source_kind_ == "simulated") scenario = Scenario::load(scenario_file_);
+  // What the source knows (a simulated camera: its optics, noise and epoch).
+  ImageSourceFacts facts;
+  if (const auto* src = dynamic_cast<const StarImageSource*>(source_.get())) {
+    try {
+      facts = src->facts();
+    } catch (const InputError& e) {
+      throw InputError("section '" + s + "': " + e.what());
+    }
+  }
 
   // Camera model: the file, else the simulated scenario's camera.
   if (!camera_file_.empty()) {
@@ -133,20 +147,20 @@ void CStarTrackerSensor::initialize() {
     } catch (const InputError& e) {
       throw InputError("section '" + s + "' key 'camera_file': " + e.what());
     }
+  } else if (facts.camera) {
+    camera_ = *facts.camera;
   } else {
-    camera_ = scenario->camera;
+    throw InputError("section '" + s + "' key 'camera_file': missing (the image source does "
+                     "not know its camera)");
   }
 
   PipelineOptions o = opts_;
   o.sensor_label = m_sensorLabel;
-  if (scenario) {  // the detector's noise model must match the simulated sensor
-    TrackerOptions& t = o.tracker;
-    if (!has_exposure_) t.exposure_s = scenario->sensor.exposure_s;
-    if (!has_gain_) t.detect.gain_e_per_adu = scenario->sensor.gain();
-    if (!has_read_noise_) {
-      t.detect.read_noise_adu = scenario->sensor.read_noise_e / scenario->sensor.gain();
-    }
-  }
+  // The detector's noise model must match the source's sensor where the keys leave it open.
+  TrackerOptions& t = o.tracker;
+  if (!has_exposure_ && facts.exposure_s) t.exposure_s = *facts.exposure_s;
+  if (!has_gain_ && facts.gain_e_per_adu) t.detect.gain_e_per_adu = *facts.gain_e_per_adu;
+  if (!has_read_noise_ && facts.read_noise_adu) t.detect.read_noise_adu = *facts.read_noise_adu;
   opts_ = o;
 
   // Star database: a file, or built in memory for this camera.
@@ -154,19 +168,18 @@ void CStarTrackerSensor::initialize() {
     if (!database_file_.empty()) {
       db_ = std::make_shared<const StarDatabase>(StarDatabase::load(database_file_));
     } else {
-      DatabaseParams p{};
-      p.max_pair_angle = 2.0 * camera_.halfDiagonalFov() + deg2rad(0.5);
-      p.mag_limit = mag_limit_;
-      p.epoch_jyear = epoch_jyear_ ? *epoch_jyear_
-                      : scenario   ? scenario->epochJyear()
-                                   : julianYear(mrpt::Clock::now());
-      p.aberration = aberration_;
-      p.double_star_sep = arcsec2rad(10.0);
-      p.max_stars_per_region = 0;
-      p.neighbour_radius = deg2rad(5.0);
+      CameraDatabaseRecipe recipe;  // the one recipe of solve and replay
+      recipe.diagonal_fov_rad = 2.0 * camera_.halfDiagonalFov();
+      recipe.pixel_scale_rad = camera_.pixelScale();
+      recipe.mag_limit = mag_limit_;
+      recipe.epoch_jyear = epoch_jyear_         ? *epoch_jyear_
+                           : facts.epoch_jyear ? *facts.epoch_jyear
+                                               : julianYear(mrpt::Clock::now());
+      recipe.aberration = aberration_;
       const std::string cat =
           catalog_file_.empty() ? StarDatabase::defaultCatalogPath() : catalog_file_;
-      db_ = std::make_shared<const StarDatabase>(StarDatabase::build(loadCatalog(cat), p));
+      db_ = std::make_shared<const StarDatabase>(
+          StarDatabase::build(loadCatalog(cat), databaseParams(recipe)));
     }
     tracker_ = std::make_unique<StarTracker>(*db_, camera_, o.trackerOptions());
   } catch (const InputError& e) {
@@ -178,8 +191,8 @@ void CStarTrackerSensor::initialize() {
 }
 
 bool CStarTrackerSensor::sourceFinished() const {
-  const auto* sim = dynamic_cast<const CSimulatedStarCamera*>(source_.get());
-  return sim && sim->finished();
+  const auto* src = dynamic_cast<const StarImageSource*>(source_.get());
+  return src && src->finished();
 }
 
 void CStarTrackerSensor::setInputsProvider(InputsProvider provider) {

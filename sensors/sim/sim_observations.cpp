@@ -1,63 +1,16 @@
 #include "sensors/sim/sim_observations.hpp"
 
-#include <mrpt/img/CImage.h>
-#include <mrpt/poses/CPose3D.h>
-
-#include "common/mrpt_convert.hpp"
-
 namespace st {
-
-mrpt::obs::CObservationImage::Ptr makeCameraObservation(const cv::Mat& image,
-                                                        const CameraModel& cam,
-                                                        mrpt::Clock::time_point t,
-                                                        const std::string& label) {
-  auto obs = mrpt::obs::CObservationImage::Create();
-  obs->timestamp = t;
-  obs->sensorLabel = label;
-  obs->cameraParams = cam.toTCamera();
-  obs->image = mrpt::img::CImage(image, mrpt::img::DEEP_COPY);
-  return obs;
-}
-
-mrpt::obs::CObservationIMU::Ptr makeGyroObservation(const Vec3& rate_body,
-                                                    mrpt::Clock::time_point t,
-                                                    const std::string& label) {
-  auto obs = mrpt::obs::CObservationIMU::Create();
-  obs->timestamp = t;
-  obs->sensorLabel = label;
-  obs->set(mrpt::obs::IMU_WX, rate_body.x());
-  obs->set(mrpt::obs::IMU_WY, rate_body.y());
-  obs->set(mrpt::obs::IMU_WZ, rate_body.z());
-  return obs;
-}
 
 mrpt::obs::CObservation6DFeatures::Ptr makeTruthObservation(const Quat& q_ib,
                                                             const std::vector<TrueStar>& stars,
                                                             mrpt::Clock::time_point t,
                                                             const std::string& label) {
-  auto obs = mrpt::obs::CObservation6DFeatures::Create();
-  obs->timestamp = t;
-  obs->sensorLabel = label;
-  obs->sensorPose = mrpt::poses::CPose3D(toPose3DQuat(q_ib));
-  for (const TrueStar& s : stars) {
-    mrpt::obs::CObservation6DFeatures::TMeasurement m;
-    m.id = static_cast<int32_t>(s.id);
-    m.pose = mrpt::poses::CPose3D(s.px.x(), s.px.y(), s.mag, 0, 0, 0);
-    obs->sensedFeatures.push_back(m);
-  }
-  return obs;
-}
-
-FrameTruth truthFromObservation(const mrpt::obs::CObservation6DFeatures& obs) {
-  FrameTruth out;
-  out.q_ib = fromPose3DQuat(mrpt::poses::CPose3DQuat(obs.sensorPose));
-  for (const auto& m : obs.sensedFeatures)
-    out.stars.push_back({static_cast<uint32_t>(m.id), Vec2(m.pose.x(), m.pose.y()), m.pose.z(), 0.0});
-  return out;
-}
-
-Vec3 rateFromObservation(const mrpt::obs::CObservationIMU& obs) {
-  return Vec3(obs.get(mrpt::obs::IMU_WX), obs.get(mrpt::obs::IMU_WY), obs.get(mrpt::obs::IMU_WZ));
+  FrameTruth truth;
+  truth.q_ib = q_ib;
+  truth.stars.reserve(stars.size());
+  for (const TrueStar& s : stars) truth.stars.push_back({s.id, s.px, s.mag});
+  return makeTruthObservation(truth, t, label);
 }
 
 }  // namespace st

@@ -22,7 +22,7 @@ namespace {
 std::mutex g_clock_mutex;
 std::optional<mrpt::Clock::time_point> g_start;
 
-constexpr const char* kCameraDriver = "CSimulatedStarCamera";
+constexpr const char* kCameraDriver = kSimulatedCameraClass;
 constexpr const char* kGyroDriver = "CSimulatedGyro";
 
 SimulatedSensorKeys defaultKeys(bool camera) {
@@ -148,6 +148,17 @@ void CSimulatedStarCamera::initialize() {
   sim_ = std::make_unique<SkySimulator>(*scenario_, seed_.value_or(scenario_->seed));
   next_frame_ = 0;
   m_state = ssWorking;
+}
+
+ImageSourceFacts CSimulatedStarCamera::facts() const {
+  const Scenario sc = scenario_ ? *scenario_ : Scenario::load(scenario_file_);
+  ImageSourceFacts f;
+  f.camera = sc.camera;
+  f.exposure_s = sc.sensor.exposure_s;
+  f.gain_e_per_adu = sc.sensor.gain();
+  f.read_noise_adu = sc.sensor.read_noise_e / sc.sensor.gain();
+  f.epoch_jyear = sc.epochJyear();
+  return f;
 }
 
 bool CSimulatedStarCamera::finished() const {

@@ -30,6 +30,7 @@
 #include <string>
 
 #include "config/schema.hpp"
+#include "sensors/mrpt/image_source.hpp"
 
 namespace st {
 
@@ -54,7 +55,7 @@ class SkySimulator;
 class GyroStream;
 struct Scenario;
 
-class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor {
+class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor, public StarImageSource {
   DEFINE_GENERIC_SENSOR(CSimulatedStarCamera)
  public:
   CSimulatedStarCamera();
@@ -65,7 +66,9 @@ class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor {
 
   int framesEmitted() const { return emitted_; }
   int framesSkipped() const { return skipped_; }
-  bool finished() const;
+  bool finished() const override;
+  /// The scenario's camera, exposure, detector noise and epoch (StarImageSource).
+  ImageSourceFacts facts() const override;
 
  protected:
   void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,

@@ -58,6 +58,7 @@ TEST(SampleIni, EveryRawlogsIniLoadsThroughItsReaders) {
       EXPECT_NO_THROW(TrackerConfig::load(path));
       ++sections;
     }
+    registerSimulatedSensors();  // a tracker's simulated image source is created by name
     for (const auto& s : all) {
       const std::string driver = cfg.read_string(s, "driver", "", false);
       if (driver.empty()) continue;

@@ -17,6 +17,7 @@
 #include "common/errors.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
+#include "sensors/sim/simulated_sensors.hpp"
 #include "tests/mrpt/mrpt_test_helpers.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -115,9 +116,12 @@ TEST(RawlogIo, UnknownClassTruncatesCRawlogSilentlyButOurReaderReportsIt) {
   }
 }
 
-TEST(RawlogIo, RegistrationAlsoRegistersTheSimulatedSensors) {
-  // rawlog-grabber -p <plugin> needs the factory to know them by their bare class names.
+TEST(RawlogIo, RegistrationRegistersTheTrackerAndTheSimulatorItsOwnSensors) {
+  // rawlog-grabber -p <plugins> needs the factory to know them by their bare class names;
+  // the simulator registers its sensors itself (its own plugin).
   registerStarTrackerClasses();
+  EXPECT_NE(mrpt::hwdrivers::CGenericSensor::createSensorPtr("CStarTrackerSensor"), nullptr);
+  registerSimulatedSensors();
   EXPECT_NE(mrpt::hwdrivers::CGenericSensor::createSensorPtr("CSimulatedStarCamera"), nullptr);
   EXPECT_NE(mrpt::hwdrivers::CGenericSensor::createSensorPtr("CSimulatedGyro"), nullptr);
 }

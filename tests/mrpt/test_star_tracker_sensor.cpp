@@ -113,6 +113,7 @@ PlayResult play(CStarTrackerSensor& sensor) {
 }
 
 std::unique_ptr<CStarTrackerSensor> makeSensor(const std::string& ini) {
+  registerSimulatedSensors();  // image_source = simulated creates it by name
   mrpt::config::CConfigFileMemory cfg(ini);
   auto s = std::make_unique<CStarTrackerSensor>();
   s->loadConfig(cfg, "TRACKER");
@@ -202,6 +203,7 @@ struct BadKey {
 };
 
 std::string loadError(const std::string& ini, bool init) {
+  registerSimulatedSensors();
   try {
     mrpt::config::CConfigFileMemory cfg(ini);
     CStarTrackerSensor s;
@@ -275,7 +277,7 @@ TEST(StarTrackerSensor, StockRawlogGrabberRecordsStarTrackerFixes) {
                      << trackerSection(scen, "sensorLabel = STAR_TRACKER\n");
   std::string out;
   test::runCommand("sleep 12 | timeout 60 " ST_PLUGIN_HOST_ENV "rawlog-grabber -p '"
-                   ST_MRPT_PLUGIN_PATH "' '" + ini + "'",
+                   ST_MRPT_PLUGIN_PATH "," ST_SIM_PLUGIN_PATH "' '" + ini + "'",
                    &out);
   std::string rawlog;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -297,6 +299,28 @@ TEST(StarTrackerSensor, StockRawlogGrabberRecordsStarTrackerFixes) {
   const auto all = readRawlog(rawlog);
   for (const auto& o : all) fixes += o->sensorLabel == "STAR_TRACKER";
   EXPECT_EQ(static_cast<int>(fixes), std::stoi(m[1]));
+}
+// The production plugin does not contain the simulator: with it alone, a tracker asking for
+// the simulated camera is refused with a message naming the class and the plugin to load,
+// and none of the simulator's code is in the library.
+TEST(StarTrackerSensor, ProductionPluginDoesNotContainTheSimulator) {
+  const std::string dir = test::makeTempDir("st_grabber_nosim");
+  const std::string scen = writeScenario(dir);
+  const std::string ini = dir + "/grab.ini";
+  std::ofstream(ini) << "[global]\nrawlog_prefix = " + dir + "/grab\n"
+                        "time_between_launches = 100\nuse_sensoryframes = 0\n"
+                        "GRABBER_PERIOD_MS = 50\n\n"
+                     << trackerSection(scen, "sensorLabel = STAR_TRACKER\n");
+  std::string out;
+  test::runCommand("sleep 3 | timeout 30 " ST_PLUGIN_HOST_ENV "rawlog-grabber -p '"
+                   ST_MRPT_PLUGIN_PATH "' '" + ini + "'",
+                   &out);
+  EXPECT_THAT(out, ::testing::HasSubstr("CSimulatedStarCamera is not registered")) << out;
+  std::string syms;
+  ASSERT_EQ(test::runCommand("nm -C --defined-only '" ST_MRPT_PLUGIN_PATH "'", &syms), 0);
+  EXPECT_THAT(syms, ::testing::HasSubstr("CStarTrackerSensor"));
+  EXPECT_THAT(syms, ::testing::Not(::testing::HasSubstr("SkySimulator")));
+  EXPECT_THAT(syms, ::testing::Not(::testing::HasSubstr("CSimulatedStarCamera")));
 }
 #endif
 

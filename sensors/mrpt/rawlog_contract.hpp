@@ -1,0 +1,63 @@
+/// @file rawlog_contract.hpp
+/// The rawlog contract (DESIGN.md "Rawlogs"): which stock MRPT observation carries what, under
+/// which label, so that any MRPT tool reads our rawlogs and any producer (the simulator, a
+/// real camera + IMU, a recording of `live`) can feed `replay`:
+///  - CAMERA: CObservationImage, 8- or 16-bit grey, cameraParams = CameraModel::toTCamera(),
+///    timestamp = mid-exposure;
+///  - GYRO: CObservationIMU, IMU_WX/WY/WZ = mean body rate [rad/s] over the sample interval
+///    ending at the timestamp (dataIsPresent set);
+///  - GROUND_TRUTH (simulated runs only): CObservation6DFeatures at each frame time:
+///    sensorPose = true q_ib (zero translation), sensedFeatures[k]: id = catalog id,
+///    pose x, y = true pixel position at mid-exposure, z = V magnitude;
+///  - STAR_TRACKER: CObservationStarTracker (observation_star_tracker.hpp).
+/// The encoders and decoders live here, once; the simulator and the navigator both use them.
+#pragma once
+#include <mrpt/core/Clock.h>
+#include <mrpt/obs/CObservation6DFeatures.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationImage.h>
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "common/attitude.hpp"
+#include "sensors/camera/camera_model.hpp"
+
+namespace st {
+
+inline constexpr const char* kCameraLabel = "CAMERA";
+inline constexpr const char* kGyroLabel = "GYRO";
+inline constexpr const char* kGroundTruthLabel = "GROUND_TRUTH";
+inline constexpr const char* kStarTrackerLabel = "STAR_TRACKER";
+
+/// One true star of a GROUND_TRUTH observation.
+struct TruthStar {
+  uint32_t id = 0;         ///< catalog id
+  Vec2 px = Vec2::Zero();  ///< [px] true image position at mid-exposure
+  double mag = 0;          ///< V magnitude
+};
+
+/// A GROUND_TRUTH observation decoded.
+struct FrameTruth {
+  Quat q_ib = Quat::Identity();
+  std::vector<TruthStar> stars;
+};
+
+/// The image is deep-copied.
+mrpt::obs::CObservationImage::Ptr makeCameraObservation(const cv::Mat& image,
+                                                        const CameraModel& cam,
+                                                        mrpt::Clock::time_point t,
+                                                        const std::string& label = kCameraLabel);
+mrpt::obs::CObservationIMU::Ptr makeGyroObservation(const Vec3& rate_body,
+                                                    mrpt::Clock::time_point t,
+                                                    const std::string& label = kGyroLabel);
+mrpt::obs::CObservation6DFeatures::Ptr makeTruthObservation(
+    const FrameTruth& truth, mrpt::Clock::time_point t,
+    const std::string& label = kGroundTruthLabel);
+
+FrameTruth truthFromObservation(const mrpt::obs::CObservation6DFeatures& obs);
+/// The body rate of a GYRO observation.
+Vec3 rateFromObservation(const mrpt::obs::CObservationIMU& obs);
+
+}  // namespace st
