@@ -8,8 +8,8 @@
 namespace st {
 
 void measureStreaks(const cv::Mat& image, const std::function<Vec2(const Vec2&)>& blur_at,
-                    const DetectorOptions& opts, std::vector<Centroid>& stars) {
-  const double psf = opts.psfSigmaGuess();
+                    StarDetector& detector, std::vector<Centroid>& stars) {
+  const double psf = detector.options().psfSigmaGuess();
   std::vector<PredictedStar> streaks;
   std::vector<std::size_t> index;
   for (std::size_t k = 0; k < stars.size(); ++k) {
@@ -26,7 +26,7 @@ void measureStreaks(const cv::Mat& image, const std::function<Vec2(const Vec2&)>
     index.push_back(k);
   }
   if (streaks.empty()) return;
-  const std::vector<WindowResult> found = centroidWindows(image, streaks, opts);
+  const std::vector<WindowResult> found = detector.centroidWindows(image, streaks);
   const std::vector<Centroid> detected = stars;
   std::vector<bool> drop(stars.size(), false);
   for (std::size_t j = 0; j < found.size(); ++j) {

@@ -15,11 +15,13 @@
 
 namespace st {
 
+class StarDetector;
+
 /// Re-measures the full-frame centroids of streaks over the whole streak `blur_at` gives at
 /// each star's pixel (fragments of a faint streak merged into one centroid; blends with
 /// another star, and blobs with no streak around them, dropped). Round stars are untouched.
 void measureStreaks(const cv::Mat& image, const std::function<Vec2(const Vec2&)>& blur_at,
-                    const DetectorOptions& opts, std::vector<Centroid>& stars);
+                    StarDetector& detector, std::vector<Centroid>& stars);
 
 /// Without a rate, the streak (length and direction [px]) every star draws, from the shapes
 /// of the brightest elongated blobs; nothing when they disagree (a roll, a tumble, doubles).

@@ -16,7 +16,11 @@ double seconds(Clock::time_point a, Clock::time_point b) {
 
 RecursiveIdentifier::RecursiveIdentifier(const StarDatabase& db, const CameraModel& camera,
                                          RecursiveIdOptions o)
-    : db_(db), camera_(camera), opts_(std::move(o)), half_diagonal_fov_(camera.halfDiagonalFov()) {}
+    : db_(db),
+      camera_(camera),
+      opts_(std::move(o)),
+      detector_(opts_.detect),
+      half_diagonal_fov_(camera.halfDiagonalFov()) {}
 
 void RecursiveIdentifier::predictCandidates(const CameraPrediction& pred) {
   const Mat3 R_ic = pred.q_ic.toRotationMatrix();
@@ -147,7 +151,7 @@ void RecursiveIdentifier::identify(const cv::Mat& image, const CameraPrediction&
     return;
   }
   // Centroids in the windows only (seed 004 §4.2.3).
-  found_ = centroidWindows(image, windows_, opts_.detect);
+  detector_.centroidWindows(image, windows_, found_);
   const auto t2 = Clock::now();
   out.detect_s = seconds(t1, t2);
   gate(out);

@@ -86,6 +86,7 @@ class RecursiveIdentifier {
   const StarDatabase& db_;
   const CameraModel& camera_;
   RecursiveIdOptions opts_;
+  StarDetector detector_;  // built once: the windows are centroided without validation
   double half_diagonal_fov_;
   std::vector<uint32_t> cone_;
   std::vector<Candidate> candidates_;

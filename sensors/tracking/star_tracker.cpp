@@ -68,6 +68,7 @@ StarTracker::StarTracker(const StarDatabase& db, const CameraModel& camera,
     : db_(db),
       camera_(camera),
       opts_(validated(options)),
+      detector_(opts_.detect),
       R_bc_(opts_.R_body_cam),
       identifier_(StarIdentifier::create(opts_.lis_algorithm, opts_.identify)),
       solver_(WahbaSolver::create(opts_.solver)),
@@ -143,7 +144,7 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
 }
 
 void StarTracker::measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
-                                   std::vector<Centroid>& stars) const {
+                                   std::vector<Centroid>& stars) {
   if (rate_cam && opts_.exposure_s > 0) {
     measureStreaks(
         image,
@@ -151,16 +152,17 @@ void StarTracker::measureStreaksOf(const cv::Mat& image, const std::optional<Vec
           return attitudeJacobian(camera_, camera_.pixelToVector(px)) * *rate_cam *
                  opts_.exposure_s;
         },
-        opts_.detect, stars);
+        detector_, stars);
   } else if (const auto blur = streakFromShapes(stars, opts_.detect)) {
-    measureStreaks(image, [&](const Vec2&) { return *blur; }, opts_.detect, stars);
+    measureStreaks(image, [&](const Vec2&) { return *blur; }, detector_, stars);
   }
 }
 
 bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                               FrameResult& out, CameraFix& fix) {
   const auto t0 = Clock::now();
-  DetectionResult det = detectStars(image, opts_.detect);
+  detector_.detect(image, det_);  // built once: no validation or allocation per frame
+  DetectionResult& det = det_;
   if (det.reason.empty()) measureStreaksOf(image, rate_cam, det.stars);
   out.timings.detect = seconds(t0, Clock::now());
   out.num_blobs = det.blobs_found;

@@ -37,6 +37,7 @@
 #include "sensors/attitude/wahba.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/identify/identifier.hpp"
+#include "sensors/detect/star_detector.hpp"
 #include "sensors/identify/recursive_id.hpp"
 #include "sensors/tracking/frame.hpp"
 #include "sensors/tracking/frame_predictor.hpp"
@@ -77,12 +78,14 @@ class StarTracker {
   bool lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam, FrameResult& out,
                    CameraFix& fix);
   void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
-                        std::vector<Centroid>& stars) const;
+                        std::vector<Centroid>& stars);
   void setAttitude(FrameResult& out, const CameraFix& fix) const;
 
   const StarDatabase& db_;
   CameraModel camera_;
   TrackerOptions opts_;
+  StarDetector detector_;  // full-frame detection and streak re-measurement
+  DetectionResult det_;    // its result, capacity kept between frames
   Mat3 R_bc_ = Mat3::Identity();  // body from camera
   std::unique_ptr<StarIdentifier> identifier_;
   std::unique_ptr<WahbaSolver> solver_;
