@@ -127,6 +127,7 @@ class LiveSession {
   void stop() {
     for (auto& r : runners_) r->stop();
     recorder_.record(queue_.takeAll(0.0));
+    recorder_.finish();
     printReports();
     if (nav_) {
       nav_->flush();

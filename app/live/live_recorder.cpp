@@ -3,6 +3,7 @@
 #include <mrpt/obs/CObservationImage.h>
 
 #include <algorithm>
+#include <chrono>
 
 namespace st::app {
 
@@ -10,30 +11,54 @@ void LiveRecorder::record(std::vector<mrpt::obs::CObservation::Ptr> batch) {
   std::stable_sort(batch.begin(), batch.end(),
                    [](const auto& a, const auto& b) { return a->timestamp < b->timestamp; });
   for (auto& o : batch) {
-    if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(o)) {
-      if (!img->image.isExternallyStored()) {  // a sensor that keeps images inline
-        char name[128];
-        std::snprintf(name, sizeof(name), "%s_live_%06d.png", img->sensorLabel.c_str(),
-                      image_no_++);
-        writer_.externalizeImage(img->image, name);
-      }
-    }
-    writer_.write(*o);
-    ++written_;
-    ++per_label_[o->sensorLabel];
-    if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o)) {
-      ++frames_;
-      if (f->hasAttitude()) ++solved_;
-      if (f->mode == StarTrackerMode::kTracking) ++tracking_;
-      if (f->mode == StarTrackerMode::kLostInSpace) ++lis_;
-      if (!f->hasAttitude()) ++failures_[f->failure];
-    }
     if (nav_) nav_->push(o);
+    if (!newest_ || o->timestamp > *newest_) newest_ = o->timestamp;
+    held_.emplace(o->timestamp, o);
+  }
+  if (newest_) {
+    writeOlderThan(*newest_ - std::chrono::duration_cast<mrpt::Clock::duration>(
+                                  std::chrono::duration<double>(hold_s_)));
+  }
+}
+
+void LiveRecorder::finish() { writeOlderThan(mrpt::Clock::time_point::max()); }
+
+void LiveRecorder::writeOlderThan(mrpt::Clock::time_point limit) {
+  while (!held_.empty() && held_.begin()->first <= limit) {
+    write(held_.begin()->second);
+    held_.erase(held_.begin());
+  }
+}
+
+void LiveRecorder::write(const mrpt::obs::CObservation::Ptr& o) {
+  if (last_written_ && o->timestamp < *last_written_) ++out_of_order_;
+  if (!last_written_ || o->timestamp > *last_written_) last_written_ = o->timestamp;
+  if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(o)) {
+    if (!img->image.isExternallyStored()) {  // a sensor that keeps images inline
+      char name[128];
+      std::snprintf(name, sizeof(name), "%s_live_%06d.png", img->sensorLabel.c_str(),
+                    image_no_++);
+      writer_.externalizeImage(img->image, name);
+    }
+  }
+  writer_.write(*o);
+  ++written_;
+  ++per_label_[o->sensorLabel];
+  if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o)) {
+    ++frames_;
+    if (f->hasAttitude()) ++solved_;
+    if (f->mode == StarTrackerMode::kTracking) ++tracking_;
+    if (f->mode == StarTrackerMode::kLostInSpace) ++lis_;
+    if (!f->hasAttitude()) ++failures_[f->failure];
   }
 }
 
 void LiveRecorder::printRawlogSummary(const std::string& path, std::FILE* out) const {
   std::fprintf(out, "rawlog: %s, %zu observations\n", path.c_str(), written_);
+  if (out_of_order_ > 0) {
+    std::fprintf(stderr, "live: %d observations arrived more than %.1f s late and are out of "
+                 "time order in the rawlog\n", out_of_order_, hold_s_);
+  }
   for (const auto& [label, n] : per_label_) std::fprintf(out, "  %-16s %zu\n", label.c_str(), n);
 }
 

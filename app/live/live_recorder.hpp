@@ -2,11 +2,17 @@
 /// What `startracker live` does with every observation its sensors deliver: writes it to the
 /// rawlog (images as external PNGs), counts it per label and, for star-tracker fixes, per
 /// outcome; and hands it to the navigator (when the filter runs).
+/// The rawlog is written in timestamp order, as replay reads it: sensors deliver late (a frame
+/// is stamped at mid-exposure and its fix after processing, while the gyro keeps sampling),
+/// so observations are held `hold_s` past the newest timestamp seen and written sorted;
+/// finish() writes the rest. One that still arrives after later ones were written is written
+/// anyway (never lost) and counted.
 #pragma once
 #include <mrpt/obs/CObservation.h>
 
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,10 +24,15 @@ namespace st::app {
 class LiveRecorder {
  public:
   /// `nav` may be null (no filter); both must outlive the recorder.
-  LiveRecorder(RawlogWriter& writer, LiveNavigator* nav) : writer_(writer), nav_(nav) {}
+  LiveRecorder(RawlogWriter& writer, LiveNavigator* nav, double hold_s = 1.0)
+      : writer_(writer), nav_(nav), hold_s_(hold_s) {}
 
-  /// Writes a batch in timestamp order.
+  /// Takes a batch: to the navigator at once, to the rawlog once hold_s old.
   void record(std::vector<mrpt::obs::CObservation::Ptr> batch);
+  /// Writes everything still held.
+  void finish();
+  /// Observations written after a later one (arrived more than hold_s late).
+  int writtenOutOfOrder() const { return out_of_order_; }
   void setNavigator(LiveNavigator* nav) { nav_ = nav; }
 
   std::size_t written() const { return written_; }
@@ -31,8 +42,15 @@ class LiveRecorder {
   void printTrackerSummary(std::FILE* out) const;
 
  private:
+  void write(const mrpt::obs::CObservation::Ptr& o);
+  void writeOlderThan(mrpt::Clock::time_point limit);
+
   RawlogWriter& writer_;
   LiveNavigator* nav_;
+  double hold_s_;
+  std::multimap<mrpt::Clock::time_point, mrpt::obs::CObservation::Ptr> held_;
+  std::optional<mrpt::Clock::time_point> newest_, last_written_;
+  int out_of_order_ = 0;
   std::map<std::string, std::size_t> per_label_;
   std::map<FrameFailure, int> failures_;
   int frames_ = 0, solved_ = 0, tracking_ = 0, lis_ = 0, image_no_ = 0;

@@ -121,6 +121,12 @@ TEST(Live, SixtySecondsOnSimulatedSensorsAreConsistentAndKeepEveryObservation) {
   std::map<std::string, std::size_t> got;
   for (const auto& o : all) ++got[o->sensorLabel];
   EXPECT_EQ(got, s.per_label) << out;
+  // In timestamp order, as replay reads it (frames are stamped at mid-exposure and their
+  // fixes come after processing, while the gyro keeps sampling).
+  std::size_t out_of_order = 0;
+  for (std::size_t i = 1; i < all.size(); ++i)
+    out_of_order += all[i]->timestamp < all[i - 1]->timestamp;
+  EXPECT_EQ(out_of_order, 0u);
 
   // What the run should hold: ~10 frames/s and ~100 gyro samples/s for the time after the
   // start-up (database build), a fix, a frame and a truth per frame.
