@@ -146,10 +146,14 @@ void StarDatabase::save(const std::string& path) const {
   if (!out) throw InputError(path + ": write failed (disk full?)");
 }
 
-StarDatabase StarDatabase::load(const std::string& path) {
+namespace {
+
+// The whole file in one bulk read (the load must take milliseconds), its magic, byte order,
+// version and checksum verified; `body` is where the checksum starts.
+std::string readVerified(const std::string& path, std::size_t& body) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path + ": cannot open star database");
-  std::string bytes(std::size_t(in.tellg()), '\0');  // one bulk read: load in milliseconds
+  std::string bytes(std::size_t(in.tellg()), '\0');
   in.seekg(0);
   in.read(bytes.data(), std::streamsize(bytes.size()));
   if (!in) throw InputError(path + ": cannot read star database");
@@ -165,18 +169,15 @@ StarDatabase StarDatabase::load(const std::string& path) {
     throw InputError(path + ": star database format version " + std::to_string(version) +
                      ", this program reads version " + std::to_string(kFormatVersion) +
                      "; rebuild it with `startracker catalog build`");
-  const std::size_t body = bytes.size() - 4;
+  body = bytes.size() - 4;
   uint32_t stored_crc;
   std::memcpy(&stored_crc, bytes.data() + body, 4);
   if (crc32Of(bytes.data(), body) != stored_crc)
     throw InputError(path + ": star database checksum mismatch (corrupt or truncated file)");
+  return bytes;
+}
 
-  Reader rd(path, bytes, body);
-  rd.need(sizeof kMagic + 8, "header");
-  rd.get<uint64_t>("magic");
-  rd.get<uint64_t>("version");
-  StarDatabase db;
-  DatabaseParams& p = db.params_;
+void readParams(Reader& rd, DatabaseParams& p) {
   p.max_pair_angle = rd.get<double>("parameters");
   p.mag_limit = rd.get<double>("parameters");
   p.epoch_jyear = rd.get<double>("parameters");
@@ -186,7 +187,9 @@ StarDatabase StarDatabase::load(const std::string& path) {
   p.max_stars_per_region = rd.get<int32_t>("parameters");
   p.region_radius = rd.get<double>("parameters");
   p.neighbour_radius = rd.get<double>("parameters");
-  BuildReport& r = db.report_;
+}
+
+void readReport(Reader& rd, BuildReport& r) {
   r.catalog_name = rd.getString("catalog name");
   r.catalog_epoch_jyear = rd.get<double>("report");
   for (std::size_t* v : {&r.catalog_entries, &r.skipped_no_position, &r.merge_candidates,
@@ -194,32 +197,31 @@ StarDatabase StarDatabase::load(const std::string& path) {
                          &r.after_density})
     *v = std::size_t(rd.get<uint64_t>("report"));
   r.build_seconds = rd.get<double>("report");
+}
 
+void readStars(Reader& rd, std::vector<Star>& stars) {
   const uint32_t n = rd.get<uint32_t>("star count");
   rd.need(std::size_t(n) * 32, "stars");
-  db.stars_.resize(n);
-  for (Star& s : db.stars_) {
+  stars.resize(n);
+  for (Star& s : stars) {
     s.id = rd.get<uint32_t>("stars");
     const double x = rd.get<double>("stars"), y = rd.get<double>("stars"),
                  z = rd.get<double>("stars");
     s.u_i = Vec3(x, y, z);
     s.mag = rd.get<float>("stars");
   }
-  const uint8_t width = rd.get<uint8_t>("index width");
-  if (width != 2 && width != 4)
-    throw InputError(path + ": star database has an invalid index width " + std::to_string(width));
-  auto getIndex = [&](const char* what) {
-    const uint32_t v = width == 2 ? rd.get<uint16_t>(what) : rd.get<uint32_t>(what);
-    if (v >= n) throw InputError(path + ": star database " + what + " index out of range");
-    return v;
-  };
+}
+
+// Pairs of `width`-byte star indices (< n) and their angle, in one tight bulk decode.
+void readPairs(Reader& rd, const std::string& path, std::size_t body, uint8_t width,
+               uint32_t n, std::vector<StarPair>& pairs) {
   const uint64_t np = rd.get<uint64_t>("pair count");
   const std::size_t pair_bytes = 2 * std::size_t(width) + 4;
   if (np > (body - rd.pos()) / pair_bytes) rd.need(body, "pairs");  // throws: truncated
   const char* pp = rd.raw(std::size_t(np) * pair_bytes, "pairs");
-  db.pairs_.resize(std::size_t(np));
+  pairs.resize(std::size_t(np));
   bool bad_index = false;
-  for (StarPair& pr : db.pairs_) {  // tight bulk decode: the load must take milliseconds
+  for (StarPair& pr : pairs) {  // tight bulk decode: the load must take milliseconds
     if (width == 2) {
       uint16_t a, b;
       std::memcpy(&a, pp, 2);
@@ -235,13 +237,43 @@ StarDatabase StarDatabase::load(const std::string& path) {
     bad_index |= pr.b >= n || pr.a >= pr.b;
   }
   if (bad_index) throw InputError(path + ": star database pair index out of range");
-  db.nbr_start_.resize(std::size_t(n) + 1);
-  for (uint32_t& v : db.nbr_start_) v = rd.get<uint32_t>("neighbour offsets");
+}
+
+// Neighbour table: n + 1 monotonic offsets, then `width`-byte star indices (< n).
+void readNeighbours(Reader& rd, const std::string& path, uint8_t width, uint32_t n,
+                    std::vector<uint32_t>& start, std::vector<uint32_t>& nbr) {
+  start.resize(std::size_t(n) + 1);
+  for (uint32_t& v : start) v = rd.get<uint32_t>("neighbour offsets");
   for (std::size_t i = 0; i < n; ++i)
-    if (db.nbr_start_[i + 1] < db.nbr_start_[i] || db.nbr_start_[0] != 0)
+    if (start[i + 1] < start[i] || start[0] != 0)
       throw InputError(path + ": star database neighbour offsets not monotonic");
-  db.nbr_.resize(db.nbr_start_.back());
-  for (uint32_t& v : db.nbr_) v = getIndex("neighbour");
+  nbr.resize(start.back());
+  for (uint32_t& v : nbr) {
+    v = width == 2 ? rd.get<uint16_t>("neighbour") : rd.get<uint32_t>("neighbour");
+    if (v >= n) throw InputError(path + ": star database neighbour index out of range");
+  }
+}
+
+}  // namespace
+
+StarDatabase StarDatabase::load(const std::string& path) {
+  std::size_t body = 0;
+  const std::string bytes = readVerified(path, body);
+  Reader rd(path, bytes, body);
+  rd.need(sizeof kMagic + 8, "header");
+  rd.get<uint64_t>("magic");
+  rd.get<uint64_t>("version");
+  StarDatabase db;
+  readParams(rd, db.params_);
+  BuildReport& r = db.report_;
+  readReport(rd, r);
+  readStars(rd, db.stars_);
+  const uint32_t n = static_cast<uint32_t>(db.stars_.size());
+  const uint8_t width = rd.get<uint8_t>("index width");
+  if (width != 2 && width != 4)
+    throw InputError(path + ": star database has an invalid index width " + std::to_string(width));
+  readPairs(rd, path, body, width, n, db.pairs_);
+  readNeighbours(rd, path, width, n, db.nbr_start_, db.nbr_);
   if (rd.pos() != body)
     throw InputError(path + ": star database has " + std::to_string(body - rd.pos()) +
                      " unexpected bytes before the checksum");

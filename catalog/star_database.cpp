@@ -60,11 +60,76 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   return build(cat, params, ProgressFn());
 }
 
+namespace {
+
+void say(const StarDatabase::ProgressFn& progress, const std::string& m) {
+  if (progress) progress(m);
+}
+
+// 1. Candidates, corrected to the observation epoch (proper motion, parallax, aberration).
+std::vector<SelectedStar> epochCorrectedCandidates(const StarCatalog& cat,
+                                                   const DatabaseParams& params,
+                                                   const StarDatabase::ProgressFn& progress) {
+  const double merge_limit =
+      params.double_star_sep > 0 ? params.mag_limit + kMergeMagMargin : params.mag_limit;
+  say(progress, "correcting " + std::to_string(cat.entries.size()) +
+                    " catalog positions to epoch " + std::to_string(params.epoch_jyear));
+  const EarthState earth = earthBarycentricState(params.epoch_jyear);
+  std::vector<SelectedStar> sel;
+  for (const CatalogEntry& e : cat.entries) {
+    if (!(e.vmag <= merge_limit)) continue;
+    Vec3 u = propagateSpaceMotion(e, cat.epoch_jyear, params.epoch_jyear);
+    if (params.parallax) u = applyParallax(u, e.parallax, earth.position_au);
+    if (params.aberration) u = applyAberration(u, earth.velocity_km_s);
+    sel.push_back({e.id, u, e.vmag});
+  }
+  return sel;
+}
+
+// 2. Double stars (seed 004 eqs. 6.1/6.2), then 3. the magnitude limit on the blends; the
+// survivors brightest first.
+void mergeAndLimit(std::vector<SelectedStar>& sel, const DatabaseParams& params,
+                   BuildReport& rep, const StarDatabase::ProgressFn& progress) {
+  say(progress, "merging double stars among " + std::to_string(sel.size()) + " candidates");
+  sel = mergeDoubleStars(sel, params.double_star_sep, &rep.double_star_groups,
+                         &rep.stars_merged_away);
+  sel.erase(std::remove_if(sel.begin(), sel.end(),
+                           [&](const SelectedStar& s) { return !(s.mag <= params.mag_limit); }),
+            sel.end());
+  rep.after_mag_limit = sel.size();
+  std::sort(sel.begin(), sel.end(), [](const SelectedStar& a, const SelectedStar& b) {
+    return a.mag != b.mag ? a.mag < b.mag : a.id < b.id;
+  });
+}
+
+// 4. Uniform density (seed 004 sec. 5.5.4): sweep cone centres over the sky and keep the
+// N brightest stars of every cone; a star survives if some cone keeps it.
+std::vector<Star> uniformDensityStars(const StarDatabase& db, const DatabaseParams& params,
+                                      const StarDatabase::ProgressFn& progress) {
+  const double radius =
+      params.region_radius > 0 ? params.region_radius : params.max_pair_angle / 2;
+  const double step = std::min(deg2rad(1.0), radius / 4);  // the seed sweeps 1 deg steps
+  const std::size_t n_centres = std::size_t(std::ceil(4 * kPi / (step * step)));
+  say(progress, "uniform density: keeping the " + std::to_string(params.max_stars_per_region) +
+                    " brightest stars in each of " + std::to_string(n_centres) + " cones");
+  const std::vector<Star>& stars = db.stars();
+  std::vector<char> keep(stars.size(), 0);
+  std::vector<uint32_t> in_cone;
+  for (const Vec3& c : fibonacciSphere(n_centres)) {
+    db.coneQuery(c, radius, in_cone);  // ascending index = brightest first
+    const std::size_t k = std::min<std::size_t>(in_cone.size(), params.max_stars_per_region);
+    for (std::size_t j = 0; j < k; ++j) keep[in_cone[j]] = 1;
+  }
+  std::vector<Star> kept;
+  for (std::size_t i = 0; i < stars.size(); ++i)
+    if (keep[i]) kept.push_back(stars[i]);
+  return kept;
+}
+
+}  // namespace
+
 StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params,
                                  const ProgressFn& progress) {
-  auto say = [&](const std::string& m) {
-    if (progress) progress(m);
-  };
   requireValid(params);  // the ground program's edge: InputError naming the field
   const auto t0 = std::chrono::steady_clock::now();
   StarDatabase db;
@@ -75,65 +140,24 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   rep.catalog_entries = cat.entries.size();
   rep.skipped_no_position = cat.skipped_no_position;
 
-  // 1. Candidates, corrected to the observation epoch (proper motion, parallax, aberration).
-  const double merge_limit =
-      params.double_star_sep > 0 ? params.mag_limit + kMergeMagMargin : params.mag_limit;
-  say("correcting " + std::to_string(cat.entries.size()) + " catalog positions to epoch " +
-      std::to_string(params.epoch_jyear));
-  const EarthState earth = earthBarycentricState(params.epoch_jyear);
-  std::vector<SelectedStar> sel;
-  for (const CatalogEntry& e : cat.entries) {
-    if (!(e.vmag <= merge_limit)) continue;
-    Vec3 u = propagateSpaceMotion(e, cat.epoch_jyear, params.epoch_jyear);
-    if (params.parallax) u = applyParallax(u, e.parallax, earth.position_au);
-    if (params.aberration) u = applyAberration(u, earth.velocity_km_s);
-    sel.push_back({e.id, u, e.vmag});
-  }
+  std::vector<SelectedStar> sel = epochCorrectedCandidates(cat, params, progress);
   rep.merge_candidates = sel.size();
-
-  // 2. Double stars (seed 004 eqs. 6.1/6.2), then 3. the magnitude limit on the blends.
-  say("merging double stars among " + std::to_string(sel.size()) + " candidates");
-  sel = mergeDoubleStars(sel, params.double_star_sep, &rep.double_star_groups,
-                         &rep.stars_merged_away);
-  sel.erase(std::remove_if(sel.begin(), sel.end(),
-                           [&](const SelectedStar& s) { return !(s.mag <= params.mag_limit); }),
-            sel.end());
-  rep.after_mag_limit = sel.size();
-  std::sort(sel.begin(), sel.end(), [](const SelectedStar& a, const SelectedStar& b) {
-    return a.mag != b.mag ? a.mag < b.mag : a.id < b.id;
-  });
+  mergeAndLimit(sel, params, rep, progress);
   db.stars_.reserve(sel.size());
   for (const SelectedStar& s : sel) db.stars_.push_back({s.id, s.u, float(s.mag)});
   db.buildIndexes();
-
-  // 4. Uniform density (seed 004 sec. 5.5.4): sweep cone centres over the sky and keep the
-  // N brightest stars of every cone; a star survives if some cone keeps it.
   if (params.max_stars_per_region > 0 && !db.stars_.empty()) {
-    const double radius =
-        params.region_radius > 0 ? params.region_radius : params.max_pair_angle / 2;
-    const double step = std::min(deg2rad(1.0), radius / 4);  // the seed sweeps 1 deg steps
-    const std::size_t n_centres = std::size_t(std::ceil(4 * kPi / (step * step)));
-    say("uniform density: keeping the " + std::to_string(params.max_stars_per_region) +
-        " brightest stars in each of " + std::to_string(n_centres) + " cones");
-    std::vector<char> keep(db.stars_.size(), 0);
-    std::vector<uint32_t> in_cone;
-    for (const Vec3& c : fibonacciSphere(n_centres)) {
-      db.coneQuery(c, radius, in_cone);  // ascending index = brightest first
-      const std::size_t k = std::min<std::size_t>(in_cone.size(), params.max_stars_per_region);
-      for (std::size_t j = 0; j < k; ++j) keep[in_cone[j]] = 1;
-    }
-    std::vector<Star> kept;
-    for (std::size_t i = 0; i < db.stars_.size(); ++i)
-      if (keep[i]) kept.push_back(db.stars_[i]);
+    std::vector<Star> kept = uniformDensityStars(db, params, progress);
     db.stars_.swap(kept);
     db.buildIndexes();
   }
   rep.after_density = db.stars_.size();
 
   // 5. Pairs + k-vector, 6. neighbour table.
-  say("building star pairs and k-vector for " + std::to_string(db.stars_.size()) + " stars");
+  say(progress, "building star pairs and k-vector for " + std::to_string(db.stars_.size()) +
+                    " stars");
   db.buildPairs();
-  say("building the neighbour table (" + std::to_string(db.pairs_.size()) + " pairs)");
+  say(progress, "building the neighbour table (" + std::to_string(db.pairs_.size()) + " pairs)");
   db.buildNeighbours();
   rep.pairs = db.pairs_.size();
   rep.kvector_size = db.pair_kv_.size();

@@ -92,29 +92,34 @@ bool flatCentroid(const StarPatch& patch, Centroid& out, std::string* reason) {
   return true;
 }
 
-}  // namespace
+// The Gaussian weight is separable, g = gx(column) gy(row): rows + columns exponentials
+// per pass instead of one per pixel (this runs in predictive windows).
+struct SeparableWeights {
+  double inv_w2;
+  std::vector<double>& gx;
+  std::vector<double>& gy;
 
-bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_sigma,
-                      int max_iter, Centroid& out, std::string* reason) {
-  if (weight_sigma <= 0) return flatCentroid(patch, out, reason);
-  const cv::Mat1f& v = patch.values;
-  const double inv_w2 = 1.0 / (weight_sigma * weight_sigma);
-  const double ox = patch.origin.x, oy = patch.origin.y;
-  Vec2 x = start;
-  // The Gaussian weight is separable, g = gx(column) gy(row): rows + columns exponentials
-  // per pass instead of one per pixel (this runs in predictive windows).
-  thread_local std::vector<double> gx, gy;
-  gx.resize(static_cast<std::size_t>(v.cols));
-  gy.resize(static_cast<std::size_t>(v.rows));
-  auto weights = [&](const Vec2& at) {
+  void at(const StarPatch& patch, const Vec2& x) {
+    const cv::Mat1f& v = patch.values;
+    const double ox = patch.origin.x, oy = patch.origin.y;
     for (int c = 0; c < v.cols; ++c)
-      gx[static_cast<std::size_t>(c)] = std::exp(-0.5 * std::pow(ox + c - at.x(), 2) * inv_w2);
+      gx[static_cast<std::size_t>(c)] = std::exp(-0.5 * std::pow(ox + c - x.x(), 2) * inv_w2);
     for (int r = 0; r < v.rows; ++r)
-      gy[static_cast<std::size_t>(r)] = std::exp(-0.5 * std::pow(oy + r - at.y(), 2) * inv_w2);
-  };
+      gy[static_cast<std::size_t>(r)] = std::exp(-0.5 * std::pow(oy + r - x.y(), 2) * inv_w2);
+  }
+  double operator()(int r, int c) const {
+    return gx[static_cast<std::size_t>(c)] * gy[static_cast<std::size_t>(r)];
+  }
+};
+
+// Seed 004 eq. 4.1: position = sum(S_i p_i) / sum(S_i), here with weights g_i, iterated
+// from x (moved to the fixed point) until it moves less than 1e-4 px.
+bool iterateWeighted(const StarPatch& patch, int max_iter, SeparableWeights& w, Vec2& x,
+                     std::string* reason) {
+  const cv::Mat1f& v = patch.values;
+  const double ox = patch.origin.x, oy = patch.origin.y;
   for (int it = 0; it < max_iter; ++it) {
-    // Seed 004 eq. 4.1: position = sum(S_i p_i) / sum(S_i), here with weights g_i.
-    weights(x);
+    w.at(patch, x);
     double sw = 0, sx = 0, sy = 0;
     for (int r = 0; r < v.rows; ++r) {
       const float* row = v[r];
@@ -122,7 +127,7 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
       for (int c = 0; c < v.cols; ++c) {
         const double s = row[c] - patch.background;
         const double px = ox + c;
-        const double g = gx[static_cast<std::size_t>(c)] * gy[static_cast<std::size_t>(r)];
+        const double g = w(r, c);
         sw += g * s;
         sx += g * s * px;
         sy += g * s * py;
@@ -137,26 +142,28 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
     x = nx;
     if (step < 1e-4 && it > 0) break;
   }
-  if (x.x() < ox - 0.5 || x.y() < oy - 0.5 || x.x() > ox + v.cols - 0.5 ||
-      x.y() > oy + v.rows - 0.5) {
-    if (reason) *reason = "centroid left the window";
-    return false;
-  }
-  // Linearised covariance of the fixed point (header), plus flux, peak and SNR.
+  return true;
+}
+
+// Linearised covariance of the fixed point x (header), plus flux, peak and SNR.
+bool fixedPointCovariance(const StarPatch& patch, const Vec2& x, SeparableWeights& w,
+                          Centroid& out, std::string* reason) {
+  const cv::Mat1f& v = patch.values;
+  const double ox = patch.origin.x, oy = patch.origin.y, inv_w2 = w.inv_w2;
   // Scalar sums (2x2 symmetric matrices by their three entries): this loop runs for every
   // window of every tracked star.
   double sg = 0, jxx = 0, jxy = 0, jyy = 0;  // sum s g, sum s g d d^T
   double mxx = 0, mxy = 0, myy = 0;          // sum var g^2 d d^T
   double gdx = 0, gdy = 0;                   // dF/db = -sum g_i d_i: shift of a background error
   double flux = 0, peak = -1e300, var_flux = 0;
-  weights(x);
+  w.at(patch, x);
   for (int r = 0; r < v.rows; ++r) {
     const float* row = v[r];
     const double dy = oy + r - x.y();
     for (int c = 0; c < v.cols; ++c) {
       const double s = row[c] - patch.background;
       const double dx = ox + c - x.x();
-      const double g = gx[static_cast<std::size_t>(c)] * gy[static_cast<std::size_t>(r)];
+      const double g = w(r, c);
       const double var = patch.variance(s);
       const double sgi = s * g, vg2 = var * g * g;
       sg += sgi;
@@ -191,6 +198,27 @@ bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_s
   out.peak = peak;
   out.snr = flux / std::sqrt(std::max(var_flux, 1e-300));
   return true;
+}
+
+}  // namespace
+
+bool weightedCentroid(const StarPatch& patch, const Vec2& start, double weight_sigma,
+                      int max_iter, Centroid& out, std::string* reason) {
+  if (weight_sigma <= 0) return flatCentroid(patch, out, reason);
+  const cv::Mat1f& v = patch.values;
+  thread_local std::vector<double> gx, gy;
+  gx.resize(static_cast<std::size_t>(v.cols));
+  gy.resize(static_cast<std::size_t>(v.rows));
+  SeparableWeights w{1.0 / (weight_sigma * weight_sigma), gx, gy};
+  Vec2 x = start;
+  if (!iterateWeighted(patch, max_iter, w, x, reason)) return false;
+  const double ox = patch.origin.x, oy = patch.origin.y;
+  if (x.x() < ox - 0.5 || x.y() < oy - 0.5 || x.x() > ox + v.cols - 0.5 ||
+      x.y() > oy + v.rows - 0.5) {
+    if (reason) *reason = "centroid left the window";
+    return false;
+  }
+  return fixedPointCovariance(patch, x, w, out, reason);
 }
 
 }  // namespace st::detail
