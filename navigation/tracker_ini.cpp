@@ -45,8 +45,10 @@ const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
             .add("reinit_after_rejections", &K::reinit_after_rejections,
                  "gate rejections in a row -> re-initialise")
             .add("reorder_window_s", &K::reorder_window_s, "[s] events held this long to be sorted")
-            .add("gyro_gap_factor", &K::gyro_gap_factor, "a longer gyro interval (x nominal) is a gap")
-            .add("rate_window_s", &K::rate_window_s, "[s] gyro samples averaged for the rate handed on")
+            .add("gyro_gap_factor", &K::gyro_gap_factor,
+                 "a longer gyro interval (x nominal) is a gap")
+            .add("rate_window_s", &K::rate_window_s,
+                 "[s] gyro samples averaged for the rate handed on")
             .add("max_warnings", &K::max_warnings, "warnings kept (later ones only counted)")
             .add("gyro_mount_ypr_deg", &K::gyro_mount_ypr_deg,
                  "[deg] yaw pitch roll of the gyro in the body (w_body = R w_gyro)")
@@ -75,8 +77,8 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   f.filter.gate_enabled = fk.gate;
   f.filter.gate_probability = fk.gate_probability;
   f.filter.max_star_vectors = fk.max_star_vectors;
-  f.update = fk.update == "stars" ? FusionOptions::Update::kStarVectors
-                                  : FusionOptions::Update::kAttitude;
+  f.update =
+      fk.update == "stars" ? FusionOptions::Update::kStarVectors : FusionOptions::Update::kAttitude;
   f.reinit_after_rejections = k.reinit_after_rejections;
   f.reorder_window_s = k.reorder_window_s;
   f.gyro_gap_factor = k.gyro_gap_factor;

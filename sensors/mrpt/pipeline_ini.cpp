@@ -16,8 +16,10 @@ const SectionSchema<DetectorOptions>& detectorSchema() {
       SectionSchema<D>()
           .add("gain_e_per_adu", &D::gain_e_per_adu, "[e-/ADU] signal to shot-noise variance")
           .add("read_noise_adu", &D::read_noise_adu, "[ADU] floor of the measured background sigma")
-          .add("detect_saturation_adu", &D::saturation_adu, "[ADU] saturated from here; 0 = type max")
-          .add("detect_threshold_sigma", &D::threshold_sigma, "candidate above background + k sigma")
+          .add("detect_saturation_adu", &D::saturation_adu,
+               "[ADU] saturated from here; 0 = type max")
+          .add("detect_threshold_sigma", &D::threshold_sigma,
+               "candidate above background + k sigma")
           .renamed("threshold_sigma", "detect_threshold_sigma")
           .add("detect_background_tile_px", &D::background_tile_px,
                "[px] tile of the background median; 0 = one global value")
@@ -31,7 +33,8 @@ const SectionSchema<DetectorOptions>& detectorSchema() {
           .add("detect_min_separation_px", &D::min_separation_px,
                "[px] closer to a brighter centroid: the same star")
           .add("detect_max_elongation", &D::max_elongation, "above: flagged elongated")
-          .add("detect_hot_pixel_fraction", &D::hot_pixel_fraction, "peak / 3x3 flux above: hot pixel")
+          .add("detect_hot_pixel_fraction", &D::hot_pixel_fraction,
+               "peak / 3x3 flux above: hot pixel")
           .add("detect_reject_flags", &D::reject_flags,
                "flags that remove a star: sum of 1 saturated, 2 edge, 4 elongated, 8 hot pixel")
           .add("centroider", &D::centroider, "cog | iwc | gauss")
@@ -54,10 +57,13 @@ const SectionSchema<VerifyOptions>& verifySchema() {
                "accept below this false-match probability")
           .add("verify_min_matches", &V::min_matches, "fewer matched stars: rejected")
           .add("verify_refine_iterations", &V::refine_iterations, "match / re-solve rounds")
-          .add("verify_edge_margin_px", &V::edge_margin_px, "[px] predicted stars this close to the border ignored")
-          .add("verify_residual_test", &V::residual_test, "chi-square test of residuals, outlier removal")
+          .add("verify_edge_margin_px", &V::edge_margin_px,
+               "[px] predicted stars this close to the border ignored")
+          .add("verify_residual_test", &V::residual_test,
+               "chi-square test of residuals, outlier removal")
           .add("verify_near_miss_test", &V::near_miss_test, "reject partial matches")
-          .add("verify_residual_alpha", &V::residual_alpha, "false-alarm probability of either test")
+          .add("verify_residual_alpha", &V::residual_alpha,
+               "false-alarm probability of either test")
           .add("verify_near_miss_factor", &V::near_miss_factor, "near-miss radius in gate radii")
           .add("verify_max_outlier_fraction", &V::max_outlier_fraction,
                "more outliers removed than this fraction: rejected");
@@ -96,7 +102,8 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .include(detectorSchema(), &T::detect)
           .add("track_solver", &T::solver, "Wahba solver while tracking")
           .renamed("solver", "track_solver lis_solver")  // it set both
-          .add("track_min_sigma_px", &T::tracking_min_sigma_px, "[px] centroid sigma floor, tracking")
+          .add("track_min_sigma_px", &T::tracking_min_sigma_px,
+               "[px] centroid sigma floor, tracking")
           .renamed("tracking_min_sigma_px", "track_min_sigma_px")
           .add("track_max_stars", &T::max_tracked_stars, "windows per frame")
           .renamed("max_tracked_stars", "track_max_stars")
@@ -106,7 +113,8 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .renamed("drop_saturated", "track_drop_saturated")
           .add("track_gate_sigma", &T::gate_sigma, "Mahalanobis gate of predicted stars")
           .renamed("gate_sigma", "track_gate_sigma")
-          .add("track_edge_margin_px", &T::edge_margin_px, "[px] predicted stars nearer the border not windowed")
+          .add("track_edge_margin_px", &T::edge_margin_px,
+               "[px] predicted stars nearer the border not windowed")
           .renamed("edge_margin_px", "track_edge_margin_px")
           .add("track_blend_separation_px", &T::blend_separation_px,
                "[px] predicted stars this close to another not windowed")
@@ -116,9 +124,11 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .add("track_consistency_probability", &T::consistency_probability,
                "false-alarm rate of the prediction-consistency test")
           .renamed("consistency_probability", "track_consistency_probability")
-          .add("track_max_failed_frames", &T::max_failed_frames, "failed frames in a row: lost-in-space")
+          .add("track_max_failed_frames", &T::max_failed_frames,
+               "failed frames in a row: lost-in-space")
           .renamed("max_failed_frames", "track_max_failed_frames")
-          .add("f2f_enabled", &T::frame_to_frame, "propagate our own attitudes when nothing is given")
+          .add("f2f_enabled", &T::frame_to_frame,
+               "propagate our own attitudes when nothing is given")
           .renamed("frame_to_frame", "f2f_enabled")
           .add("f2f_max_propagation_s", &T::max_propagation_s, "[s] older attitudes not propagated")
           .renamed("max_propagation_s", "f2f_max_propagation_s")
@@ -148,7 +158,8 @@ std::string trackerKeyOfError(const std::string& why) {
     tokens.emplace_back("option '" + k.name + "'", k.name);
     tokens.emplace_back("DetectorOptions." + k.name, k.name);  // the unprefixed detector keys
     for (const auto& [pre, strukt] : prefixes)
-      if (k.name.rfind(pre, 0) == 0) tokens.emplace_back(strukt + k.name.substr(std::string(pre).size()), k.name);
+      if (k.name.rfind(pre, 0) == 0)
+        tokens.emplace_back(strukt + k.name.substr(std::string(pre).size()), k.name);
   }
   for (const auto& [old_key, new_key] : trackerIniSchema().renamedKeys())
     tokens.emplace_back("option '" + old_key + "'", new_key.substr(0, new_key.find(' ')));
@@ -158,7 +169,8 @@ std::string trackerKeyOfError(const std::string& why) {
   for (const auto& [token, key] : tokens) {
     for (std::size_t p = why.find(token); p != std::string::npos; p = why.find(token, p + 1)) {
       const std::size_t end = p + token.size();
-      const bool whole = end == why.size() || !(std::isalnum(static_cast<unsigned char>(why[end])) || why[end] == '_');
+      const bool whole = end == why.size() ||
+                         !(std::isalnum(static_cast<unsigned char>(why[end])) || why[end] == '_');
       if (whole && (best.empty() || p >= best_pos)) {
         best_pos = p;
         best = key;

@@ -16,7 +16,8 @@ const SectionSchema<StarTrackerSensorKeys>& starTrackerSensorSchema() {
           .add("max_queue_len", &K::max_queue_len, "observations queued at most (MRPT)")
           .add("grab_decimation", &K::grab_decimation, "keep 1 of N observations (MRPT)")
           .add("sensorLabel", &K::sensorLabel, "label of the star-tracker observations")
-          .choice("image_source", &K::image_source, {"simulated", "camera"}, "where frames come from")
+          .choice("image_source", &K::image_source, {"simulated", "camera"},
+                  "where frames come from")
           .required()
           .add("image_label", &K::image_label, "label of the emitted frames")
           .add("emit_image", &K::emit_image, "also emit the frames")
@@ -49,12 +50,14 @@ StarTrackerSensorKeys readStarTrackerSensorKeys(const IniReader& r, const std::s
   return k;
 }
 
-bool isStarTrackerSensorSection(const mrpt::config::CConfigFileBase& cfg, const std::string& section) {
+bool isStarTrackerSensorSection(const mrpt::config::CConfigFileBase& cfg,
+                                const std::string& section) {
   return cfg.read_string(section, "driver", "", false) == "CStarTrackerSensor";
 }
 
 std::string printStarTrackerSensorSection(const IniReader& r, const std::string& section) {
-  std::string text = starTrackerSensorSchema().print(section, readStarTrackerSensorKeys(r, section));
+  std::string text =
+      starTrackerSensorSchema().print(section, readStarTrackerSensorKeys(r, section));
   // With a simulated source these default to the scenario's sensor at initialize(), not to
   // TrackerOptions': unset, they print empty (an empty number is an absent key), so that the
   // printed section runs as the original does.

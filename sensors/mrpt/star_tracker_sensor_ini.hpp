@@ -45,7 +45,8 @@ const SectionSchema<StarTrackerSensorKeys>& starTrackerSensorSchema();
 StarTrackerSensorKeys readStarTrackerSensorKeys(const IniReader& r, const std::string& section);
 
 /// Whether `section` configures a CStarTrackerSensor (its driver names it).
-bool isStarTrackerSensorSection(const mrpt::config::CConfigFileBase& cfg, const std::string& section);
+bool isStarTrackerSensorSection(const mrpt::config::CConfigFileBase& cfg,
+                                const std::string& section);
 /// Strict read, then the effective section in ini form (`startracker config`).
 std::string printStarTrackerSensorSection(const IniReader& r, const std::string& section);
 

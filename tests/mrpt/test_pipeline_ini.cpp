@@ -102,8 +102,9 @@ TEST(PipelineIni, BadValuesAndNamesAreRefusedWithFileSectionAndKey) {
   EXPECT_THAT(message("track_gate_sigma", "3x"), HasSubstr("t.ini: [pipeline] track_gate_sigma"));
   EXPECT_THAT(message("detect_max_stars", "2.5"), HasSubstr("detect_max_stars: not an integer"));
   EXPECT_THAT(message("detect_reject_spikes", "maybe"), HasSubstr("detect_reject_spikes"));
-  EXPECT_THAT(message("track_gate_sigm", "3"),
-              HasSubstr("[pipeline] key 'track_gate_sigm': unknown key; did you mean 'track_gate_sigma'?"));
+  EXPECT_THAT(
+      message("track_gate_sigm", "3"),
+      HasSubstr("[pipeline] key 'track_gate_sigm': unknown key; did you mean 'track_gate_sigma'?"));
   // Values checked once by TrackerOptions::isValid: reported under the key the user wrote.
   EXPECT_THAT(message("lis_algorithm", "nonsense"), HasSubstr("key 'lis_algorithm'"));
   EXPECT_THAT(message("lis_solver", "nonsense"), HasSubstr("key 'lis_solver'"));
