@@ -8,10 +8,11 @@
 //
 // Optional sections without a driver:
 //   [global]     rawlog_file = out.rawlog (default live.rawlog; -o wins)
-//   [filter]     as in tracker.ini (navigation/tracker_config.hpp): gyro datasheet numbers,
+//   [filter]     as in tracker.ini (navigation/tracker_ini.hpp): gyro datasheet numbers,
 //                gate, update = attitude | stars
 //   [navigator]  as in tracker.ini, plus enabled = true; reorder_window_s (default 0.5 here)
 //                is the latency a star-tracker fix may have and still enter the filter
+// All three are strict schemas (unknown keys exit 2), printed by `startracker config`.
 // The filter is the one fusion loop of `replay` (app/live/live_navigator.hpp).
 // Relative paths inside the .ini are relative to the .ini's folder (the sensors are
 // configured from there).
@@ -198,7 +199,7 @@ int runLive(const LiveArgs& args) {
   mrpt::config::CConfigFile cfg(config.string());
 
   std::string out = args.out;
-  if (out.empty()) out = cfg.read_string("global", "rawlog_file", "live.rawlog");
+  if (out.empty()) out = readLiveIni(IniReader{cfg, args.config}).global.rawlog_file;
   // -o is relative to where the user runs; rawlog_file to the .ini, like every other path.
   const fs::path out_path = args.out.empty() ? config.parent_path() / out : fs::absolute(out);
   fs::current_path(config.parent_path());  // the .ini's relative paths

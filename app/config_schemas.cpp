@@ -4,7 +4,11 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <algorithm>
+
 #include "app/montecarlo/run_file.hpp"
+#include "navigation/tracker_config.hpp"
+#include "sensors/mrpt/star_tracker_sensor_ini.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/simulated_sensors.hpp"
@@ -37,6 +41,14 @@ std::vector<std::string> scenarioSections(const IniReader& r, const std::string&
   return out;
 }
 
+/// The sections of `candidates` present in the file.
+std::vector<std::string> presentOf(const IniReader& r, const std::string& wanted,
+                                   const std::vector<std::string>& candidates) {
+  return sectionsWhere(r, wanted, [&](const std::string& s) {
+    return std::find(candidates.begin(), candidates.end(), s) != candidates.end();
+  });
+}
+
 std::string printCamera(const IniReader& r, const std::string& sec) {
   CameraIniKeys keys = CameraModel::loadIni(r, sec).iniKeys();
   keys.focal_length = r.num(sec, "focal_length", 0.0);  // informational: kept as written
@@ -56,6 +68,27 @@ void addConfigSchemas(SchemaPrinters& printers) {
         return sectionsWhere(r, wanted, [&](const std::string& s) { return isSimulatedSensorSection(r.cfg, s); });
       },
       perSection(&printSimulatedSensorSection));
+  printers.add(
+      "star tracker sensor",
+      [](const IniReader& r, const std::string& wanted) {
+        return sectionsWhere(r, wanted, [&](const std::string& s) { return isStarTrackerSensorSection(r.cfg, s); });
+      },
+      perSection(&printStarTrackerSensorSection));
+  // A live .ini's own sections; its scenario sections went to the scenario above.
+  printers.add(
+      "live",
+      [](const IniReader& r, const std::string& wanted) {
+        return isLiveIni(r) ? presentOf(r, wanted, {"global", "filter", "navigator"})
+                            : std::vector<std::string>{};
+      },
+      [](const IniReader& r, const std::vector<std::string>&) { return printLiveIni(readLiveIni(r)); });
+  printers.add(
+      "tracker",
+      [](const IniReader& r, const std::string& wanted) {
+        return isTrackerIni(r) && !isLiveIni(r) ? presentOf(r, wanted, {"filter", "navigator", "pipeline", "database", "camera"})
+                               : std::vector<std::string>{};
+      },
+      [](const IniReader& r, const std::vector<std::string>&) { return printTrackerIni(readTrackerIni(r)); });
   printers.add(
       "camera",
       [](const IniReader& r, const std::string& wanted) {

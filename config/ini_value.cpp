@@ -1,5 +1,6 @@
 #include "config/ini_value.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -69,6 +70,20 @@ std::string IniCodec<std::vector<std::pair<double, double>>>::write(const Pairs&
     x.push_back(p.second);
   }
   return formatIniNumbers(x);
+}
+
+void IniCodec<uint32_t>::read(const IniReader& r, const std::string& s, const std::string& k,
+                             uint32_t& v) {
+  const uint64_t u = r.uint64(s, k, v);
+  if (u > 0xFFFFFFFFull) throw InputError(r.where(s, k) + ": more than 32 bits");
+  v = static_cast<uint32_t>(u);
+}
+
+void IniCodec<long>::read(const IniReader& r, const std::string& s, const std::string& k, long& v) {
+  const double d = r.num(s, k, static_cast<double>(v));
+  if (d != std::floor(d) || std::abs(d) > 9007199254740992.0)
+    throw InputError(r.where(s, k) + ": not an integer");
+  v = static_cast<long>(d);
 }
 
 }  // namespace st

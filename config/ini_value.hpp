@@ -47,6 +47,22 @@ struct IniCodec<uint64_t> {
 };
 
 template <>
+struct IniCodec<long> {
+  static bool present(const IniReader& r, const std::string& s, const std::string& k) { return r.has(s, k); }
+  /// Through a number, so that "2e6" is a count too; whole and below 2^53 (exact in a double).
+  static void read(const IniReader& r, const std::string& s, const std::string& k, long& v);
+  static std::string write(long v) { return std::to_string(v); }
+};
+
+/// Bit masks: a non-negative integer of 32 bits.
+template <>
+struct IniCodec<uint32_t> {
+  static bool present(const IniReader& r, const std::string& s, const std::string& k) { return r.has(s, k); }
+  static void read(const IniReader& r, const std::string& s, const std::string& k, uint32_t& v);
+  static std::string write(uint32_t v) { return std::to_string(v); }
+};
+
+template <>
 struct IniCodec<bool> {
   static bool present(const IniReader& r, const std::string& s, const std::string& k) { return r.has(s, k); }
   static void read(const IniReader& r, const std::string& s, const std::string& k, bool& v) { v = r.boolean(s, k, v); }

@@ -1,5 +1,7 @@
 #include "config/schema.hpp"
 
+#include <sstream>
+
 namespace st {
 
 std::string formatIniKey(const std::string& key, const std::string& value, const std::string& help) {
@@ -13,6 +15,17 @@ void throwBadChoice(const IniReader& r, const std::string& sec, const std::strin
   const std::string near = closestKey(value, names);
   throw InputError(r.whereKey(sec, key) + " = '" + value + "': expected one of " + list +
                    (near.empty() ? "" : "; did you mean '" + near + "'?"));
+}
+
+void refuseRenamedKeys(const IniReader& r, const std::string& sec,
+                       const std::vector<std::pair<std::string, std::string>>& renamed) {
+  for (const auto& [old_key, new_keys] : renamed) {
+    if (!r.exists(sec, old_key)) continue;
+    std::string names;  // "'a'" or "'a' and 'b'" (a key split in two)
+    std::istringstream in(new_keys);
+    for (std::string k; in >> k;) names += (names.empty() ? "'" : " and '") + k + "'";
+    throw InputError(r.whereKey(sec, old_key) + ": renamed to " + names);
+  }
 }
 
 }  // namespace st

@@ -37,6 +37,11 @@ std::string formatIniKey(const std::string& key, const std::string& value, const
 [[noreturn]] void throwBadChoice(const IniReader& r, const std::string& sec, const std::string& key,
                                  const std::string& value, const std::vector<std::string>& names);
 
+/// Throws the InputError for the first old key name of `renamed` written in `sec`, naming
+/// its new name.
+void refuseRenamedKeys(const IniReader& r, const std::string& sec,
+                       const std::vector<std::pair<std::string, std::string>>& renamed);
+
 template <class T>
 class SectionSchema {
  public:
@@ -91,6 +96,14 @@ class SectionSchema {
     return *this;
   }
 
+  /// An old name of `new_key`: present in a section, it is refused naming the new key (a
+  /// renamed key must never be silently ignored, nor silently accepted). A key split in two
+  /// names both, separated by a space.
+  SectionSchema& renamed(const std::string& old_key, const std::string& new_key) {
+    renamed_.emplace_back(old_key, new_key);
+    return *this;
+  }
+
   /// Marks the last key added as required (absent -> InputError naming it).
   SectionSchema& required() {
     keys_.back().required = true;
@@ -113,10 +126,12 @@ class SectionSchema {
       k.write = [wr, part](const T& t) { return wr(t.*part); };
       keys_.push_back(std::move(k));
     }
+    renamed_.insert(renamed_.end(), inner.renamedKeys().begin(), inner.renamedKeys().end());
     return *this;
   }
 
   const std::vector<Key>& keys() const { return keys_; }
+  const std::vector<std::pair<std::string, std::string>>& renamedKeys() const { return renamed_; }
   std::set<std::string> names() const {
     std::set<std::string> out;
     for (const auto& k : keys_) out.insert(k.name);
@@ -126,7 +141,15 @@ class SectionSchema {
   /// Strict read of section `sec` into `out` (keys absent keep out's values). Unknown keys,
   /// missing required keys and unparsable values throw InputError naming file/section/key.
   void read(const IniReader& r, const std::string& sec, T& out) const {
+    refuseRenamedKeys(r, sec, renamed_);  // before onlyKeys: the message names the new key
     r.onlyKeys(sec, names());
+    readKnown(r, sec, out);
+  }
+
+  /// read() without the unknown-key check, for a section shared with another reader that
+  /// checks its own keys (old names are still refused).
+  void readKnown(const IniReader& r, const std::string& sec, T& out) const {
+    refuseRenamedKeys(r, sec, renamed_);
     for (const auto& k : keys_) {
       if (k.present(r, sec))
         k.read(r, sec, out);
@@ -151,6 +174,7 @@ class SectionSchema {
   }
 
   std::vector<Key> keys_;
+  std::vector<std::pair<std::string, std::string>> renamed_;  ///< old name -> new name
 };
 
 }  // namespace st

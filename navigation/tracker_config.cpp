@@ -20,52 +20,61 @@ std::string resolvePath(const std::string& p, const std::string& base_dir) {
   return (std::filesystem::path(base_dir) / p).string();
 }
 
-}  // namespace
-
-void readFusionSections(const IniReader& r, NavigatorOptions& n,
-                        const std::set<std::string>& extra_navigator_keys) {
-  std::set<std::string> nav_keys = {"reinit_after_rejections", "reorder_window_s",
-                                    "gyro_gap_factor", "rate_window_s", "camera_label",
-                                    "gyro_label", "truth_label", "star_tracker_label"};
-  nav_keys.insert(extra_navigator_keys.begin(), extra_navigator_keys.end());
-  r.onlyKeys("filter", {"arw_deg_rt_h", "rrw_deg_h_rt_h", "bias_sigma_deg_h", "gate_probability",
-                        "gate", "update", "max_star_vectors"});
-  r.onlyKeys("navigator", nav_keys);
-  FusionOptions& f = n.fusion;
-  // [filter]: gyro datasheet numbers.
-  f.filter = MekfOptions::fromDatasheet(r.num("filter", "arw_deg_rt_h", 0.15),
-                                        r.num("filter", "rrw_deg_h_rt_h", 0.5),
-                                        r.num("filter", "bias_sigma_deg_h", 10.0));
-  f.filter.gate_probability = r.num("filter", "gate_probability", f.filter.gate_probability);
-  f.filter.gate_enabled = r.boolean("filter", "gate", f.filter.gate_enabled);
-  f.filter.max_star_vectors = r.integer("filter", "max_star_vectors", f.filter.max_star_vectors);
-  const std::string update = r.str("filter", "update", toString(f.update));
-  if (update != "attitude" && update != "stars")
-    throw InputError(r.where("filter", "update") + " = '" + update + "': attitude or stars");
-  f.update = update == "stars" ? FusionOptions::Update::kStarVectors
-                               : FusionOptions::Update::kAttitude;
-  // [navigator]
-  f.reinit_after_rejections =
-      r.integer("navigator", "reinit_after_rejections", f.reinit_after_rejections);
-  f.reorder_window_s = r.num("navigator", "reorder_window_s", f.reorder_window_s);
-  f.gyro_gap_factor = r.num("navigator", "gyro_gap_factor", f.gyro_gap_factor);
-  f.rate_window_s = r.num("navigator", "rate_window_s", f.rate_window_s);
-  n.camera_label = r.str("navigator", "camera_label", n.camera_label);
-  n.gyro_label = r.str("navigator", "gyro_label", n.gyro_label);
-  n.truth_label = r.str("navigator", "truth_label", n.truth_label);
-  n.star_tracker_label = r.str("navigator", "star_tracker_label", n.star_tracker_label);
-  std::string why;
-  if (!f.isValid(&why)) throw InputError(r.where("navigator") + ": " + why);
+const SectionSchema<DatabaseSource>& databaseIniSchema() {
+  using D = DatabaseSource;
+  static const auto s =
+      SectionSchema<D>()
+          .add("path", &D::path, "a saved star database; empty = build one in memory")
+          .add("catalog", &D::catalog, "catalog of the build; empty = the default")
+          .add("mag_limit", &D::mag_limit, "magnitude limit of the build")
+          .add("epoch_jyear", &D::epoch_jyear, "[Julian year] of the build; 0 = the data's")
+          .add("aberration", &D::aberration, "annual aberration in the build");
+  return s;
 }
+
+}  // namespace
 
 NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
                                       const std::string& source, bool* enabled) {
   const IniReader r{cfg, source};
+  const LiveIniKeys k = readLiveIni(r);
   NavigatorOptions o;
-  o.fusion.reorder_window_s = 0.5;
-  readFusionSections(r, o, {"enabled"});
-  *enabled = r.boolean("navigator", "enabled", true);
+  applyFusionKeys(r, k.filter, k.navigator, o);
+  *enabled = k.navigator.enabled;
   return o;
+}
+
+bool isTrackerIni(const IniReader& r) {
+  for (const char* sec : {"filter", "navigator", "pipeline", "database"})
+    if (r.cfg.sectionExists(sec)) return true;
+  return false;
+}
+
+TrackerIniKeys readTrackerIni(const IniReader& r) {
+  TrackerIniKeys k;
+  k.navigator = NavigatorIniKeys::of(k.nav);
+  filterIniSchema().read(r, "filter", k.filter);
+  navigatorIniSchema(false).read(r, "navigator", k.navigator);
+  applyFusionKeys(r, k.filter, k.navigator, k.nav);
+  readPipelineOptions(r, "pipeline", k.nav.pipeline);
+  std::string why;
+  if (!k.nav.isValid(&why)) throw InputError(r.source + ": " + why);
+  databaseIniSchema().read(r, "database", k.database);
+  if (r.cfg.sectionExists("camera")) {
+    CameraModel::loadIni(r, "camera");  // the checks of the camera itself
+    k.camera.emplace();
+    cameraIniSchema().read(r, "camera", *k.camera);
+  }
+  return k;
+}
+
+std::string printTrackerIni(const TrackerIniKeys& k) {
+  std::string s = filterIniSchema().print("filter", k.filter) + "\n" +
+                  navigatorIniSchema(false).print("navigator", k.navigator) + "\n" +
+                  pipelineIniSchema().print("pipeline", k.nav.pipeline) + "\n" +
+                  databaseIniSchema().print("database", k.database);
+  if (k.camera) s += "\n" + cameraIniSchema().print("camera", *k.camera);
+  return s;
 }
 
 TrackerConfig TrackerConfig::load(const std::string& path) {
@@ -79,27 +88,14 @@ TrackerConfig TrackerConfig::load(const std::string& path) {
 TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                         const std::string& source, const std::string& base_dir) {
   const IniReader r{cfg, source};
+  const TrackerIniKeys k = readTrackerIni(r);
   TrackerConfig c;
   c.source = source;
-  r.onlyKeys("pipeline", pipelineIniKeys());
-  r.onlyKeys("database", {"path", "catalog", "mag_limit", "epoch_jyear", "aberration"});
-  NavigatorOptions& n = c.nav;
-  readFusionSections(r, n, {});
-
-  // [pipeline]
-  readPipelineOptions(r, "pipeline", n.pipeline);
-  std::string why;
-  if (!n.isValid(&why)) throw InputError(source + ": " + why);
-
-  // [database]
-  c.database.path = resolvePath(r.str("database", "path", ""), base_dir);
-  c.database.catalog = resolvePath(r.str("database", "catalog", ""), base_dir);
-  c.database.mag_limit = r.num("database", "mag_limit", c.database.mag_limit);
-  c.database.epoch_jyear = r.num("database", "epoch_jyear", c.database.epoch_jyear);
-  c.database.aberration = r.boolean("database", "aberration", c.database.aberration);
-
-  // [camera]
-  if (cfg.sectionExists("camera")) c.camera = CameraModel::loadIni(cfg, "camera", source);
+  c.nav = k.nav;
+  c.database = k.database;
+  c.database.path = resolvePath(k.database.path, base_dir);
+  c.database.catalog = resolvePath(k.database.catalog, base_dir);
+  if (k.camera) c.camera = CameraModel::loadIni(r, "camera");
   return c;
 }
 

@@ -3,12 +3,12 @@
 /// database it names.
 #pragma once
 #include <optional>
-#include <set>
 #include <string>
 
 #include "catalog/star_database.hpp"
 #include "config/ini_reader.hpp"
 #include "navigation/navigator.hpp"
+#include "navigation/tracker_ini.hpp"
 #include "sensors/camera/camera_model.hpp"
 
 namespace mrpt::config {
@@ -26,16 +26,13 @@ struct DatabaseSource {
   bool aberration = true;
 };
 
-/// tracker.ini, every section optional:
-///   [filter]    arw_deg_rt_h, rrw_deg_h_rt_h, bias_sigma_deg_h (gyro datasheet numbers),
-///               gate_probability, gate (true/false), update = attitude | stars
-///   [navigator] reinit_after_rejections, reorder_window_s, gyro_gap_factor, rate_window_s,
-///               camera_label, gyro_label, truth_label
-///   [pipeline]  the keys of sensors/mrpt/pipeline_ini.hpp (PipelineOptions, same names),
-///               as in a CStarTrackerSensor section
-///   [database]  path, catalog, mag_limit, epoch_jyear, aberration
+/// tracker.ini, every section optional, each read strictly by its schema (unknown keys and old
+/// key names are errors naming the file, section and key; `startracker config` prints it):
+///   [filter], [navigator]  navigation/tracker_ini.hpp (MekfOptions, FusionOptions, labels)
+///   [pipeline]  the tracker keys of sensors/mrpt/pipeline_ini.hpp (PipelineOptions), as in a
+///               CStarTrackerSensor section
+///   [database]  path, catalog, mag_limit, epoch_jyear, aberration (DatabaseSource)
 ///   [camera]    CameraModel::loadIni keys; present = overrides the rawlog's camera
-/// Unknown keys in these sections are errors (a typo must not silently keep a default).
 /// Relative paths are relative to the .ini's folder.
 struct TrackerConfig {
   NavigatorOptions nav;
@@ -49,16 +46,25 @@ struct TrackerConfig {
                                   const std::string& source, const std::string& base_dir = ".");
 };
 
-/// Reads the [filter] and [navigator] sections (the fusion loop's options and the rawlog
-/// labels) shared by tracker.ini and the live app's .ini; `extra_navigator_keys` are allowed
-/// in [navigator] for the caller to read (e.g. the live app's `enabled`).
-void readFusionSections(const IniReader& r, NavigatorOptions& n,
-                        const std::set<std::string>& extra_navigator_keys);
-
-/// The live app's [filter] / [navigator] (tracker.ini's reader, plus `enabled`; the reorder
-/// window defaults to 0.5 s there: a fix arrives after its processing time).
+/// The live app's [filter] / [navigator] (tracker.ini's schemas, plus `enabled`; the reorder
+/// window defaults to 0.5 s there: a fix arrives after its processing time). Also checks the
+/// live app's [global] (readLiveIni).
 NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
                                       const std::string& source, bool* enabled);
+
+/// tracker.ini's sections as written (paths unresolved), read strictly and checked.
+struct TrackerIniKeys {
+  FilterIniKeys filter;
+  NavigatorIniKeys navigator;
+  NavigatorOptions nav;  ///< the options they give, [pipeline] included
+  DatabaseSource database;
+  std::optional<CameraIniKeys> camera;
+};
+TrackerIniKeys readTrackerIni(const IniReader& r);
+/// The effective configuration in ini form (reads back to the same).
+std::string printTrackerIni(const TrackerIniKeys& k);
+/// Whether the file looks like a tracker.ini: it has one of its sections besides [camera].
+bool isTrackerIni(const IniReader& r);
 
 /// Builds (or loads) the database of `src` for a camera; `data_epoch_jyear` is used when the
 /// source gives none. Throws InputError naming the file for a bad database/catalog.

@@ -1,74 +1,200 @@
 #include "sensors/mrpt/pipeline_ini.hpp"
 
+#include <cctype>
+#include <utility>
+#include <vector>
+
 #include "common/errors.hpp"
-#include "sensors/attitude/wahba.hpp"
-#include "sensors/identify/identifier.hpp"
 
 namespace st {
 
-const std::set<std::string>& pipelineIniKeys() {
-  static const std::set<std::string> keys = {
-      "sensor_label", "lis_algorithm", "solver", "identify_solver", "exposure_s",
-      "min_sigma_px", "tracking_min_sigma_px", "max_tracked_stars", "min_tracked_stars",
-      "drop_saturated", "gate_sigma", "edge_margin_px", "blend_separation_px",
-      "loss_probability", "consistency_probability", "max_failed_frames", "frame_to_frame",
-      "max_propagation_s", "accel_sigma", "gyro_sigma", "gain_e_per_adu", "read_noise_adu",
-      "threshold_sigma", "centroider", "psf_sigma_px", "reject_spikes", "max_stars",
-      "identify_max_stars", "pair_sigma"};
-  return keys;
+namespace {
+
+const SectionSchema<DetectorOptions>& detectorSchema() {
+  using D = DetectorOptions;
+  static const auto s =
+      SectionSchema<D>()
+          .add("gain_e_per_adu", &D::gain_e_per_adu, "[e-/ADU] signal to shot-noise variance")
+          .add("read_noise_adu", &D::read_noise_adu, "[ADU] floor of the measured background sigma")
+          .add("detect_saturation_adu", &D::saturation_adu,
+               "[ADU] saturated from here; 0 = type max")
+          .add("detect_threshold_sigma", &D::threshold_sigma,
+               "candidate above background + k sigma")
+          .renamed("threshold_sigma", "detect_threshold_sigma")
+          .add("detect_background_tile_px", &D::background_tile_px,
+               "[px] tile of the background median; 0 = one global value")
+          .add("detect_background_samples", &D::background_samples, "pixels sampled per tile")
+          .add("detect_prefilter", &D::prefilter, "none | neighbourhood | grid (low thresholds)")
+          .add("detect_prefilter_min_count", &D::prefilter_min_count, "of the 25 pixels of 5x5")
+          .add("detect_min_area", &D::min_area, "[px] smaller blobs are noise")
+          .add("detect_max_area", &D::max_area, "[px] larger blobs are Moon, planets, glare")
+          .add("detect_max_stars", &D::max_stars, "brightest detections kept")
+          .renamed("max_stars", "detect_max_stars")
+          .add("detect_min_separation_px", &D::min_separation_px,
+               "[px] closer to a brighter centroid: the same star")
+          .add("detect_max_elongation", &D::max_elongation, "above: flagged elongated")
+          .add("detect_hot_pixel_fraction", &D::hot_pixel_fraction,
+               "peak / 3x3 flux above: hot pixel")
+          .add("detect_reject_flags", &D::reject_flags,
+               "flags that remove a star: sum of 1 saturated, 2 edge, 4 elongated, 8 hot pixel")
+          .add("centroider", &D::centroider, "cog | iwc | gauss")
+          .add("psf_sigma_px", &D::psf_sigma_px, "[px] PSF sigma; 0 = estimate per star")
+          .add("detect_window_margin_px", &D::window_margin_px, "[px] around a blob's box")
+          .add("detect_reject_spikes", &D::reject_spikes, "gauss: drop single-pixel spikes, refit")
+          .renamed("reject_spikes", "detect_reject_spikes")
+          .add("detect_window_sigmas", &D::window_sigmas, "predictive window half-size in sigma")
+          .add("detect_max_window_half_px", &D::max_window_half_px, "[px] cap of that half-size");
+  return s;
+}
+
+const SectionSchema<VerifyOptions>& verifySchema() {
+  using V = VerifyOptions;
+  static const auto s =
+      SectionSchema<V>()
+          .add("verify_gate_sigma", &V::gate_sigma, "match gate in combined 1-sigma")
+          .add("verify_min_gate_px", &V::min_gate_px, "[px] lower bound of the gate radius")
+          .add("verify_false_match_threshold", &V::false_match_threshold,
+               "accept below this false-match probability")
+          .add("verify_min_matches", &V::min_matches, "fewer matched stars: rejected")
+          .add("verify_refine_iterations", &V::refine_iterations, "match / re-solve rounds")
+          .add("verify_edge_margin_px", &V::edge_margin_px,
+               "[px] predicted stars this close to the border ignored")
+          .add("verify_residual_test", &V::residual_test,
+               "chi-square test of residuals, outlier removal")
+          .add("verify_near_miss_test", &V::near_miss_test, "reject partial matches")
+          .add("verify_residual_alpha", &V::residual_alpha,
+               "false-alarm probability of either test")
+          .add("verify_near_miss_factor", &V::near_miss_factor, "near-miss radius in gate radii")
+          .add("verify_max_outlier_fraction", &V::max_outlier_fraction,
+               "more outliers removed than this fraction: rejected");
+  return s;
+}
+
+const SectionSchema<IdentifyOptions>& identifySchema() {
+  using I = IdentifyOptions;
+  static const auto s =
+      SectionSchema<I>()
+          .add("lis_solver", &I::solver, "Wahba solver of lost-in-space")
+          .renamed("identify_solver", "lis_solver")
+          .add("lis_pair_sigma", &I::pair_sigma, "star-pair tolerance in sigma of the angle")
+          .renamed("pair_sigma", "lis_pair_sigma")
+          .add("lis_scale_tolerance", &I::scale_tolerance, "relative focal-length uncertainty")
+          .add("lis_max_stars", &I::max_stars, "brightest observations forming patterns")
+          .renamed("identify_max_stars", "lis_max_stars")
+          .add("lis_max_stars_retry", &I::max_stars_retry, "one more search over this many")
+          .add("lis_max_verifications", &I::max_verifications, "hypotheses verified at most")
+          .add("lis_max_candidates", &I::max_candidates, "pattern candidates examined at most")
+          .include(verifySchema(), &I::verify);
+  return s;
+}
+
+}  // namespace
+
+const SectionSchema<TrackerOptions>& trackerIniSchema() {
+  using T = TrackerOptions;
+  static const auto s =
+      SectionSchema<T>()
+          .add("exposure_s", &T::exposure_s, "[s] exposure, for the blur of predicted stars")
+          .add("lis_algorithm", &T::lis_algorithm, "lost-in-space algorithm (sensors/identify)")
+          .add("lis_min_sigma_px", &T::min_sigma_px, "[px] centroid sigma floor, lost-in-space")
+          .renamed("min_sigma_px", "lis_min_sigma_px")
+          .include(identifySchema(), &T::identify)
+          .include(detectorSchema(), &T::detect)
+          .add("track_solver", &T::solver, "Wahba solver while tracking")
+          .renamed("solver", "track_solver lis_solver")  // it set both
+          .add("track_min_sigma_px", &T::tracking_min_sigma_px,
+               "[px] centroid sigma floor, tracking")
+          .renamed("tracking_min_sigma_px", "track_min_sigma_px")
+          .add("track_max_stars", &T::max_tracked_stars, "windows per frame")
+          .renamed("max_tracked_stars", "track_max_stars")
+          .add("track_min_stars", &T::min_tracked_stars, "fewer gated stars: failed frame")
+          .renamed("min_tracked_stars", "track_min_stars")
+          .add("track_drop_saturated", &T::drop_saturated, "saturated stars left out of the fix")
+          .renamed("drop_saturated", "track_drop_saturated")
+          .add("track_gate_sigma", &T::gate_sigma, "Mahalanobis gate of predicted stars")
+          .renamed("gate_sigma", "track_gate_sigma")
+          .add("track_edge_margin_px", &T::edge_margin_px,
+               "[px] predicted stars nearer the border not windowed")
+          .renamed("edge_margin_px", "track_edge_margin_px")
+          .add("track_blend_separation_px", &T::blend_separation_px,
+               "[px] predicted stars this close to another not windowed")
+          .renamed("blend_separation_px", "track_blend_separation_px")
+          .add("track_loss_probability", &T::loss_probability, "false-alarm rate of the loss test")
+          .renamed("loss_probability", "track_loss_probability")
+          .add("track_consistency_probability", &T::consistency_probability,
+               "false-alarm rate of the prediction-consistency test")
+          .renamed("consistency_probability", "track_consistency_probability")
+          .add("track_max_failed_frames", &T::max_failed_frames,
+               "failed frames in a row: lost-in-space")
+          .renamed("max_failed_frames", "track_max_failed_frames")
+          .add("f2f_enabled", &T::frame_to_frame,
+               "propagate our own attitudes when nothing is given")
+          .renamed("frame_to_frame", "f2f_enabled")
+          .add("f2f_max_propagation_s", &T::max_propagation_s, "[s] older attitudes not propagated")
+          .renamed("max_propagation_s", "f2f_max_propagation_s")
+          .add("f2f_accel_sigma", &T::accel_sigma, "[rad/s^2] 1-sigma angular acceleration")
+          .renamed("accel_sigma", "f2f_accel_sigma")
+          .add("f2f_gyro_sigma", &T::gyro_sigma, "[rad/s] 1-sigma error of a given rate")
+          .renamed("gyro_sigma", "f2f_gyro_sigma");
+  return s;
+}
+
+const SectionSchema<PipelineOptions>& pipelineIniSchema() {
+  static const auto s = SectionSchema<PipelineOptions>()
+                            .add("sensor_label", &PipelineOptions::sensor_label,
+                                 "label of the star-tracker observations")
+                            .include(trackerIniSchema(), &PipelineOptions::tracker);
+  return s;
+}
+
+std::string trackerKeyOfError(const std::string& why) {
+  // The field tokens of the validation messages and their keys: a stage's options name
+  // their fields "Struct.field"; TrackerOptions' own are "option 'field'" (its old key name).
+  std::vector<std::pair<std::string, std::string>> tokens = {
+      {"option 'identify.solver'", "lis_solver"}};
+  const std::pair<const char*, const char*> prefixes[] = {
+      {"detect_", "DetectorOptions."}, {"lis_", "IdentifyOptions."}, {"verify_", "VerifyOptions."}};
+  for (const auto& k : trackerIniSchema().keys()) {
+    tokens.emplace_back("option '" + k.name + "'", k.name);
+    tokens.emplace_back("DetectorOptions." + k.name, k.name);  // the unprefixed detector keys
+    for (const auto& [pre, strukt] : prefixes)
+      if (k.name.rfind(pre, 0) == 0)
+        tokens.emplace_back(strukt + k.name.substr(std::string(pre).size()), k.name);
+  }
+  for (const auto& [old_key, new_key] : trackerIniSchema().renamedKeys())
+    tokens.emplace_back("option '" + old_key + "'", new_key.substr(0, new_key.find(' ')));
+  // The innermost field is the last one named.
+  std::size_t best_pos = 0;
+  std::string best;
+  for (const auto& [token, key] : tokens) {
+    for (std::size_t p = why.find(token); p != std::string::npos; p = why.find(token, p + 1)) {
+      const std::size_t end = p + token.size();
+      const bool whole = end == why.size() ||
+                         !(std::isalnum(static_cast<unsigned char>(why[end])) || why[end] == '_');
+      if (whole && (best.empty() || p >= best_pos)) {
+        best_pos = p;
+        best = key;
+      }
+    }
+  }
+  return best;
+}
+
+void checkTrackerOptions(const IniReader& r, const std::string& sec, const TrackerOptions& o) {
+  std::string why;
+  if (o.isValid(&why)) return;
+  const std::string key = trackerKeyOfError(why);
+  throw InputError((key.empty() ? r.where(sec) : r.whereKey(sec, key)) + ": star tracker " + why);
 }
 
 void readTrackerOptions(const IniReader& r, const std::string& sec, TrackerOptions& o) {
-  o.exposure_s = r.num(sec, "exposure_s", o.exposure_s);
-  // lost-in-space
-  o.lis_algorithm = r.str(sec, "lis_algorithm", o.lis_algorithm);
-  o.min_sigma_px = r.num(sec, "min_sigma_px", o.min_sigma_px);
-  o.identify.max_stars = r.integer(sec, "identify_max_stars", o.identify.max_stars);
-  o.identify.pair_sigma = r.num(sec, "pair_sigma", o.identify.pair_sigma);
-  // tracking
-  if (r.has(sec, "solver")) o.solver = o.identify.solver = r.str(sec, "solver", o.solver);
-  o.identify.solver = r.str(sec, "identify_solver", o.identify.solver);
-  o.tracking_min_sigma_px = r.num(sec, "tracking_min_sigma_px", o.tracking_min_sigma_px);
-  o.max_tracked_stars = r.integer(sec, "max_tracked_stars", o.max_tracked_stars);
-  o.min_tracked_stars = r.integer(sec, "min_tracked_stars", o.min_tracked_stars);
-  o.drop_saturated = r.boolean(sec, "drop_saturated", o.drop_saturated);
-  o.gate_sigma = r.num(sec, "gate_sigma", o.gate_sigma);
-  o.edge_margin_px = r.num(sec, "edge_margin_px", o.edge_margin_px);
-  o.blend_separation_px = r.num(sec, "blend_separation_px", o.blend_separation_px);
-  o.loss_probability = r.num(sec, "loss_probability", o.loss_probability);
-  o.consistency_probability = r.num(sec, "consistency_probability", o.consistency_probability);
-  o.max_failed_frames = r.integer(sec, "max_failed_frames", o.max_failed_frames);
-  // frame-to-frame prediction
-  o.frame_to_frame = r.boolean(sec, "frame_to_frame", o.frame_to_frame);
-  o.max_propagation_s = r.num(sec, "max_propagation_s", o.max_propagation_s);
-  o.accel_sigma = r.num(sec, "accel_sigma", o.accel_sigma);
-  o.gyro_sigma = r.num(sec, "gyro_sigma", o.gyro_sigma);
-  // detection
-  DetectorOptions& d = o.detect;
-  d.gain_e_per_adu = r.num(sec, "gain_e_per_adu", d.gain_e_per_adu);
-  d.read_noise_adu = r.num(sec, "read_noise_adu", d.read_noise_adu);
-  d.threshold_sigma = r.num(sec, "threshold_sigma", d.threshold_sigma);
-  d.centroider = r.str(sec, "centroider", d.centroider);
-  d.psf_sigma_px = r.num(sec, "psf_sigma_px", d.psf_sigma_px);
-  d.reject_spikes = r.boolean(sec, "reject_spikes", d.reject_spikes);
-  d.max_stars = r.integer(sec, "max_stars", d.max_stars);
-
-  // The name checks first: they name their own key.
-  std::string err;
-  // The solvers first: StarIdentifier::create validates o.identify (its solver included),
-  // and a bad identify_solver must be reported under its own key.
-  if (!WahbaSolver::create(o.solver, &err))
-    throw InputError(r.where(sec, "solver") + " = '" + o.solver + "': " + err);
-  if (!WahbaSolver::create(o.identify.solver, &err)) {
-    throw InputError(r.where(sec, "identify_solver") + " = '" + o.identify.solver + "': " +
-                     err);
-  }
-  if (!o.isValid(&err)) throw InputError(r.where(sec) + ": star tracker " + err);
+  trackerIniSchema().read(r, sec, o);
+  checkTrackerOptions(r, sec, o);
 }
 
 void readPipelineOptions(const IniReader& r, const std::string& sec, PipelineOptions& o) {
-  o.sensor_label = r.str(sec, "sensor_label", o.sensor_label);
-  readTrackerOptions(r, sec, o.tracker);
+  pipelineIniSchema().read(r, sec, o);
+  checkTrackerOptions(r, sec, o.tracker);
 }
 
 }  // namespace st

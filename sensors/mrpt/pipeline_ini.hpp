@@ -1,27 +1,50 @@
 /// @file pipeline_ini.hpp
-/// The .ini keys of a star tracker (TrackerOptions, plus the observation label), read the
-/// same way by CStarTrackerSensor (in its own section) and by the navigator (in [pipeline]):
-/// one list of keys, one meaning for each.
+/// The .ini keys of a star tracker (TrackerOptions with its DetectorOptions, IdentifyOptions
+/// and VerifyOptions, plus the observation label), one SectionSchema read the same way by
+/// CStarTrackerSensor (in its own section) and by the navigator (tracker.ini's [pipeline]):
+/// one list of keys, one meaning for each, printable by `startracker config`.
+///
+/// Key names: the prefix is the stage the key tunes, so that the stages' same-named options
+/// never collide (a gate of tracking is not the gate of verification):
+///   detect_   detection and centroiding (DetectorOptions)
+///   lis_      lost-in-space identification (IdentifyOptions, lis_algorithm, its sigma floor)
+///   verify_   verification of a hypothesis, LIS and recursive (VerifyOptions)
+///   track_    tracking: windows, gates, loss tests (TrackerOptions)
+///   f2f_      frame-to-frame prediction when nothing is given (TrackerOptions)
+/// Unprefixed: the camera's noise model and PSF shared by every stage (gain_e_per_adu,
+/// read_noise_adu, psf_sigma_px, centroider), exposure_s and sensor_label.
+/// The old names (gate_sigma, solver, max_stars, ...) are refused naming their new name.
+/// Not keys: R_body_cam (the sensor's MRPT pose gives it), DetectorOptions::dark_frame (an
+/// image), VerifyOptions::scale_tolerance (copied from lis_scale_tolerance) and
+/// VerifyOptions::enabled (off only in tests: a tracker that accepts every hypothesis).
 #pragma once
-#include <set>
 #include <string>
 
 #include "config/ini_reader.hpp"
+#include "config/schema.hpp"
 #include "sensors/mrpt/observation_from_frame.hpp"
 #include "sensors/tracking/tracker_options.hpp"
 
 namespace st {
 
-/// The keys readPipelineOptions understands (for IniReader::onlyKeys).
-const std::set<std::string>& pipelineIniKeys();
+/// Every tracker key (TrackerOptions).
+const SectionSchema<TrackerOptions>& trackerIniSchema();
+/// trackerIniSchema() plus `sensor_label`.
+const SectionSchema<PipelineOptions>& pipelineIniSchema();
 
 /// Reads the tracker keys of `section` that are present over `o` (absent keys keep o's
-/// values), then checks the result (TrackerOptions::isValid). `solver` names the Wahba solver
-/// of tracking and of lost-in-space; `identify_solver` overrides the latter. Throws
-/// InputError naming the file, section and key.
+/// values), strictly, then checks the result once (TrackerOptions::isValid), reporting a bad
+/// value under its key. Throws InputError naming the file, section and key.
 void readTrackerOptions(const IniReader& r, const std::string& section, TrackerOptions& o);
 
-/// readTrackerOptions into o.tracker, and `sensor_label`.
+/// The check of readTrackerOptions alone (TrackerOptions::isValid, the error under its key).
+void checkTrackerOptions(const IniReader& r, const std::string& section, const TrackerOptions& o);
+
+/// The same for PipelineOptions (the tracker keys and `sensor_label`).
 void readPipelineOptions(const IniReader& r, const std::string& section, PipelineOptions& o);
+
+/// The ini key of the option that TrackerOptions::isValid's message `why` blames ("" when
+/// none): validation names fields, the user wrote keys.
+std::string trackerKeyOfError(const std::string& why);
 
 }  // namespace st

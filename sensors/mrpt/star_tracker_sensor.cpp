@@ -16,9 +16,9 @@
 #include "common/errors.hpp"
 #include "common/mrpt_convert.hpp"
 #include "config/ini_reader.hpp"
-#include "sensors/mrpt/pipeline_ini.hpp"
 #include "catalog/database_recipe.hpp"
 #include "sensors/mrpt/image_source.hpp"
+#include "sensors/mrpt/star_tracker_sensor_ini.hpp"
 
 IMPLEMENTS_GENERIC_SENSOR(CStarTrackerSensor, st)
 
@@ -43,16 +43,16 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   const IniReader r{cfg, "", true};
   auto str = [&](const std::string& k) { return r.str(section, k, ""); };
 
+  // The whole section, strictly, once (star_tracker_sensor_ini.hpp); the image source made
+  // below reads its own keys again.
+  const StarTrackerSensorKeys keys = readStarTrackerSensorKeys(r, section);
+
   // --- image source ---
-  source_kind_ = str("image_source");
-  if (source_kind_.empty()) {
-    throw InputError(r.where(section, "image_source") +
-                     ": missing key (simulated | camera)");
-  }
-  image_label_ = r.str(section, "image_label", image_label_);
-  emit_image_ = r.boolean(section, "emit_image", emit_image_);
-  camera_file_ = r.str(section, "camera_file", camera_file_);
-  camera_file_section_ = r.str(section, "camera_file_section", camera_file_section_);
+  source_kind_ = keys.image_source;
+  image_label_ = keys.image_label;
+  emit_image_ = keys.emit_image;
+  camera_file_ = keys.camera_file;
+  camera_file_section_ = keys.camera_file_section;
   if (source_kind_ == "simulated") {
     scenario_file_ = str("scenario_file");
     if (scenario_file_.empty()) throw InputError(r.where(section, "scenario_file") + ": missing key");
@@ -92,11 +92,11 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   }
 
   // --- star database ---
-  database_file_ = r.str(section, "database_file", database_file_);
-  catalog_file_ = r.str(section, "catalog_file", catalog_file_);
-  mag_limit_ = r.num(section, "mag_limit", mag_limit_);
-  aberration_ = r.boolean(section, "aberration", aberration_);
-  if (r.has(section, "epoch_jyear")) epoch_jyear_ = r.num(section, "epoch_jyear", 0);
+  database_file_ = keys.database_file;
+  catalog_file_ = keys.catalog_file;
+  mag_limit_ = keys.mag_limit;
+  aberration_ = keys.aberration;
+  if (keys.epoch_jyear != 0) epoch_jyear_ = keys.epoch_jyear;
   if (!database_file_.empty() && !mrpt::system::fileExists(database_file_)) {
     throw InputError(r.where(section, "database_file") + ": no such file '" + database_file_ + "'");
   }
@@ -106,7 +106,7 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
 
   // --- pipeline ---
   PipelineOptions o;
-  readPipelineOptions(r, section, o);
+  o.tracker = keys.tracker;
   o.sensor_label = m_sensorLabel;
   has_exposure_ = r.has(section, "exposure_s");
   has_gain_ = r.has(section, "gain_e_per_adu");

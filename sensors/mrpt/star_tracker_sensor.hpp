@@ -26,8 +26,8 @@
 ///   catalog_file  = path          (default StarDatabase::defaultCatalogPath()) with
 ///   mag_limit = 6.5, epoch_jyear (default: the scenario's epoch, else required),
 ///   aberration = true
-///   Tracker: the keys of pipeline_ini.hpp (TrackerOptions and its detector options, same
-///   names), as in the navigator's [pipeline] section.
+///   Tracker: the keys of pipeline_ini.hpp (stage-prefixed: detect_, lis_, verify_, track_,
+///   f2f_), as in the navigator's [pipeline]. The section is strict: star_tracker_sensor_ini.hpp.
 ///   Relative paths are taken as they are (relative to the working directory).
 ///
 /// Errors: a missing or bad key throws st::InputError ("section 'S' key 'K': ..."), from

@@ -1,4 +1,6 @@
-// `startracker config` and the strict schemas end to end: for each schema, a misspelled key
+// `startracker config` and the strict schemas end to end: for each schema (scenario, camera,
+// simulated sensors, montecarlo run file, tracker.ini, the live .ini's own sections, the
+// CStarTrackerSensor section and its tracker keys), a misspelled key
 // in a temporary file makes the real executable exit 2 with a message naming the file, the
 // section, the key and the nearest valid key; every sample .ini prints an effective
 // configuration that reads back to the same configuration.
@@ -126,6 +128,71 @@ TEST(ConfigCommand, MontecarloRunFileTypo) {
   expectTypoMessage(out, path, "montecarlo_run", "sed", "seed");
 }
 
+/// A typo must fail `startracker config FILE` and the command that uses the file (`using`,
+/// run from the file's folder) alike, with exit code 2 and the same message.
+void expectRefusedByBoth(const std::string& path, const std::string& using_cmd,
+                         const std::string& section, const std::string& key,
+                         const std::string& expected) {
+  SCOPED_TRACE(key);
+  const std::string dir = fs::path(path).parent_path().string();
+  for (const std::string& cmd : {exe() + " config " + path, "cd " + dir + " && " + using_cmd}) {
+    std::string out;
+    EXPECT_EQ(test::runCommand(cmd, &out), 2) << cmd << "\n" << out;
+    EXPECT_NE(out.find(path), std::string::npos) << out;
+    EXPECT_TRUE(out.find("[" + section + "] key '" + key + "'") != std::string::npos ||
+                out.find("section '" + section + "' key '" + key + "'") != std::string::npos)
+        << out;
+    EXPECT_NE(out.find(expected), std::string::npos) << out;
+  }
+}
+
+TEST(ConfigCommand, TrackerIniTyposAndOldNamesFailInEverySection) {
+  const std::string dir = test::makeTempDir("cfg_tracker");
+  const std::string sample = readText(test::repoDir() + "/rawlogs/tracker.ini");
+  const std::string replay = exe() + " replay " + test::repoDir() + "/rawlogs/hold.rawlog -q --config ";
+  const std::vector<Typo> typos = {
+      {"filter", "bias_sigma_deg_h =", "bias_sigma_deg_hh =", "bias_sigma_deg_hh", "bias_sigma_deg_h"},
+      {"pipeline", "read_noise_adu =", "read_noise_adux =", "read_noise_adux", "read_noise_adu"},
+      {"pipeline", "read_noise_adu =", "track_gate_sigm = 3\nread_noise_adu =", "track_gate_sigm",
+       "track_gate_sigma"},
+      {"navigator", "[pipeline]", "[navigator]\ngyro_labl = GYRO\n[pipeline]", "gyro_labl", "gyro_label"},
+      {"database", "[pipeline]", "[database]\nmag_limt = 6\n[pipeline]", "mag_limt", "mag_limit"},
+  };
+  for (const Typo& t : typos) {
+    const std::string path = dir + "/typo_" + t.key + ".ini";
+    std::ofstream(path) << withTypo(sample, t.from, t.to);
+    expectRefusedByBoth(path, replay + path, t.section, t.key, "did you mean '" + t.suggestion + "'?");
+  }
+  // An old key name is refused naming its new one.
+  const std::string path = dir + "/old_name.ini";
+  std::ofstream(path) << withTypo(sample, "read_noise_adu =", "gate_sigma = 3\nread_noise_adu =");
+  expectRefusedByBoth(path, replay + path, "pipeline", "gate_sigma", "renamed to 'track_gate_sigma'");
+}
+
+TEST(ConfigCommand, LiveIniTyposAndOldNamesFailInItsOwnAndSensorSections) {
+  const std::string dir = test::makeTempDir("cfg_live");
+  fs::copy_file(test::repoDir() + "/rawlogs/live_sim.ini", dir + "/live_sim.ini");
+  const std::string sample = readText(dir + "/live_sim.ini");
+  const std::vector<Typo> typos = {
+      {"global", "rawlog_file =", "rawlog_fil =", "rawlog_fil", "rawlog_file"},
+      {"filter", "bias_sigma_deg_h =", "bias_sigma_deg_hh =", "bias_sigma_deg_hh", "bias_sigma_deg_h"},
+      {"navigator", "enabled          =", "enable           =", "enable", "enabled"},
+      {"TRACKER_SENSOR", "mag_limit     =", "mag_limt      =", "mag_limt", "mag_limit"},
+      {"TRACKER_SENSOR", "emit_image    =", "emit_imag     =", "emit_imag", "emit_image"},
+      {"TRACKER_SENSOR", "track_solver  =", "track_solvr   =", "track_solvr", "track_solver"},
+  };
+  for (const Typo& t : typos) {
+    const std::string path = dir + "/typo_" + t.key + ".ini";
+    std::ofstream(path) << withTypo(sample, t.from, t.to);
+    expectRefusedByBoth(path, "timeout 60 " + exe() + " live " + path + " -o " + dir + "/x.rawlog",
+                        t.section, t.key, "did you mean '" + t.suggestion + "'?");
+  }
+  const std::string path = dir + "/old_name.ini";
+  std::ofstream(path) << withTypo(sample, "track_solver  =", "solver        =");
+  expectRefusedByBoth(path, "timeout 60 " + exe() + " live " + path + " -o " + dir + "/x.rawlog",
+                      "TRACKER_SENSOR", "solver", "renamed to 'track_solver' and 'lis_solver'");
+}
+
 /// The printed configuration without its first line (which names the file printed) and
 /// without the notes on sections no schema printed (the print has no such sections).
 std::string body(const std::string& out) {
@@ -156,9 +223,9 @@ TEST(ConfigCommand, EverySampleIniPrintsAConfigurationThatReadsBack) {
       EXPECT_EQ(body(again), body(out));
     }
   }
-  EXPECT_GE(printed, 6);
-  // The tracker files belong to the navigator's schema, not registered here yet.
-  EXPECT_EQ(without_schema, (std::set<std::string>{"one_hour_tracker.ini", "tracker.ini"}));
+  EXPECT_GE(printed, 8);
+  // Every sample has a schema now: tracker.ini files and the live app's sections included.
+  EXPECT_EQ(without_schema, std::set<std::string>{});
 }
 
 }  // namespace

@@ -1,11 +1,13 @@
 // The pipeline's .ini keys (sensors/mrpt/pipeline_ini.hpp), shared by CStarTrackerSensor and
-// the navigator's [pipeline]: every listed key is read into its option, and a bad value or
-// name is refused naming the file, section and key.
+// the navigator's [pipeline]: every key is read into its own option, the stages' same-named
+// options have distinct prefixed keys, old key names are refused naming the new ones, and a
+// bad value or name is refused naming the file, section and key.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
-#include <map>
+#include <cstdlib>
+#include <sstream>
 
 #include "common/errors.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
@@ -13,90 +15,116 @@
 namespace st {
 namespace {
 
-// A valid value for every key, each different from PipelineOptions' default.
-const std::map<std::string, std::string> kValues = {
-    {"sensor_label", "ST2"},         {"lis_algorithm", "voting"},
-    {"solver", "svd"},               {"identify_solver", "foam"},
-    {"exposure_s", "0.05"},          {"min_sigma_px", "0.03"},
-    {"tracking_min_sigma_px", "0.002"}, {"max_tracked_stars", "12"},
-    {"min_tracked_stars", "5"},      {"drop_saturated", "false"},
-    {"gate_sigma", "4"},             {"edge_margin_px", "6"},
-    {"blend_separation_px", "7"},    {"loss_probability", "0.01"},
-    {"consistency_probability", "0.02"}, {"max_failed_frames", "5"},
-    {"frame_to_frame", "false"},     {"max_propagation_s", "2"},
-    {"accel_sigma", "0.1"},          {"gyro_sigma", "2e-4"},
-    {"gain_e_per_adu", "8"},         {"read_noise_adu", "3"},
-    {"threshold_sigma", "6"},        {"centroider", "iwc"},
-    {"psf_sigma_px", "1.4"},         {"reject_spikes", "true"},
-    {"max_stars", "77"},             {"identify_max_stars", "9"},
-    {"pair_sigma", "5"}};
-
-std::string ini(const std::map<std::string, std::string>& kv) {
-  std::string s = "[pipeline]\n";
-  for (const auto& [k, v] : kv) s += k + " = " + v + "\n";
-  return s;
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
 }
 
-TEST(PipelineIni, EveryKeyIsListedAndReadIntoItsOption) {
-  ASSERT_EQ(pipelineIniKeys().size(), kValues.size());
-  for (const auto& [k, v] : kValues) EXPECT_EQ(pipelineIniKeys().count(k), 1u) << k;
+/// A value of the same type as the printed `def`, different from it.
+std::string otherValue(const std::string& def) {
+  if (def == "true") return "false";
+  if (def == "false") return "true";
+  char* end = nullptr;
+  const double d = std::strtod(def.c_str(), &end);
+  if (!def.empty() && *end == '\0') return formatIniNumber(d + 1);
+  return "x" + def;
+}
+
+TEST(PipelineIni, EveryKeyIsReadIntoItsOwnOption) {
+  const auto& schema = pipelineIniSchema();
   const PipelineOptions def;
-  for (const auto& [key, value] : kValues) {
-    mrpt::config::CConfigFileMemory cfg(ini({{key, value}}));
+  const std::vector<std::string> def_lines = lines(schema.print("pipeline", def));
+  for (const auto& k : schema.keys()) {
+    SCOPED_TRACE(k.name);
+    const std::string value = otherValue(k.write(def));
+    mrpt::config::CConfigFileMemory cfg("[pipeline]\n" + k.name + " = " + value + "\n");
     PipelineOptions o;
-    readPipelineOptions(IniReader{cfg, "t.ini"}, "pipeline", o);
-    // Each key alone must change exactly the option it names: compare the printable fields.
-    auto fields = [](const PipelineOptions& po) {
-      const TrackerOptions& p = po.tracker;
-      return std::vector<std::string>{
-          po.sensor_label, p.lis_algorithm, p.solver, p.identify.solver,
-          std::to_string(p.exposure_s), std::to_string(p.min_sigma_px),
-          std::to_string(p.tracking_min_sigma_px), std::to_string(p.max_tracked_stars),
-          std::to_string(p.min_tracked_stars), std::to_string(p.drop_saturated),
-          std::to_string(p.gate_sigma), std::to_string(p.edge_margin_px),
-          std::to_string(p.blend_separation_px), std::to_string(p.loss_probability),
-          std::to_string(p.consistency_probability), std::to_string(p.max_failed_frames),
-          std::to_string(p.frame_to_frame), std::to_string(p.max_propagation_s),
-          std::to_string(p.accel_sigma), std::to_string(p.gyro_sigma),
-          std::to_string(p.detect.gain_e_per_adu), std::to_string(p.detect.read_noise_adu),
-          std::to_string(p.detect.threshold_sigma), p.detect.centroider,
-          std::to_string(p.detect.psf_sigma_px), std::to_string(p.detect.reject_spikes),
-          std::to_string(p.detect.max_stars), std::to_string(p.identify.max_stars),
-          std::to_string(p.identify.pair_sigma)};
-    };
-    const auto a = fields(def), b = fields(o);
-    int changed = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
-    // `solver` names the solver of tracking and of lost-in-space alike.
-    EXPECT_EQ(changed, key == "solver" ? 2 : 1) << key << " = " << value;
+    schema.read(IniReader{cfg, "t.ini"}, "pipeline", o);
+    // Exactly the key's own line changes: two keys bound to one option would change two.
+    const std::vector<std::string> got = lines(schema.print("pipeline", o));
+    ASSERT_EQ(got.size(), def_lines.size());
+    std::vector<std::string> changed;
+    for (std::size_t i = 0; i < got.size(); ++i)
+      if (got[i] != def_lines[i]) changed.push_back(got[i]);
+    EXPECT_EQ(changed, std::vector<std::string>{k.name + " = " + value});
   }
 }
 
+TEST(PipelineIni, SameNamedOptionsOfTheStagesHaveTheirOwnKeys) {
+  mrpt::config::CConfigFileMemory cfg(
+      "[pipeline]\ntrack_gate_sigma = 3.5\nverify_gate_sigma = 6\ntrack_edge_margin_px = 7\n"
+      "verify_edge_margin_px = 2\ndetect_max_stars = 50\nlis_max_stars = 9\n"
+      "track_solver = svd\nlis_solver = foam\nlis_min_sigma_px = 0.03\ntrack_min_sigma_px = 0.002\n"
+      "f2f_enabled = false\n");
+  PipelineOptions o;
+  readPipelineOptions(IniReader{cfg, "t.ini"}, "pipeline", o);
+  const TrackerOptions& t = o.tracker;
+  EXPECT_EQ(t.gate_sigma, 3.5);
+  EXPECT_EQ(t.identify.verify.gate_sigma, 6.0);
+  EXPECT_EQ(t.edge_margin_px, 7.0);
+  EXPECT_EQ(t.identify.verify.edge_margin_px, 2.0);
+  EXPECT_EQ(t.detect.max_stars, 50);
+  EXPECT_EQ(t.identify.max_stars, 9);
+  EXPECT_EQ(t.solver, "svd");
+  EXPECT_EQ(t.identify.solver, "foam");
+  EXPECT_EQ(t.min_sigma_px, 0.03);
+  EXPECT_EQ(t.tracking_min_sigma_px, 0.002);
+  EXPECT_FALSE(t.frame_to_frame);
+}
+
+std::string message(const std::string& key, const std::string& value) {
+  mrpt::config::CConfigFileMemory cfg("[pipeline]\n" + key + " = " + value + "\n");
+  PipelineOptions o;
+  try {
+    readPipelineOptions(IniReader{cfg, "t.ini"}, "pipeline", o);
+  } catch (const InputError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
+TEST(PipelineIni, OldKeyNamesAreRefusedNamingTheNewName) {
+  for (const auto& [old_key, new_key] : pipelineIniSchema().renamedKeys()) {
+    SCOPED_TRACE(old_key);
+    EXPECT_THAT(message(old_key, "1"),
+                ::testing::HasSubstr("t.ini: [pipeline] key '" + old_key + "': renamed to '" +
+                                     new_key.substr(0, new_key.find(' ')) + "'"));
+  }
+  EXPECT_THAT(message("solver", "quest"),
+              ::testing::HasSubstr("renamed to 'track_solver' and 'lis_solver'"));
+  EXPECT_GE(pipelineIniSchema().renamedKeys().size(), 22u);
+}
+
 TEST(PipelineIni, BadValuesAndNamesAreRefusedWithFileSectionAndKey) {
-  auto message = [](const std::string& key, const std::string& value) {
-    mrpt::config::CConfigFileMemory cfg(ini({{key, value}}));
-    PipelineOptions o;
-    try {
-      readPipelineOptions(IniReader{cfg, "t.ini"}, "pipeline", o);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_THAT(message("gate_sigma", "3x"), ::testing::HasSubstr("t.ini: [pipeline] gate_sigma"));
-  EXPECT_THAT(message("max_stars", "2.5"), ::testing::HasSubstr("max_stars: not an integer"));
-  EXPECT_THAT(message("reject_spikes", "maybe"), ::testing::HasSubstr("reject_spikes"));
-  EXPECT_THAT(message("lis_algorithm", "nonsense"), ::testing::HasSubstr("lis_algorithm"));
-  EXPECT_THAT(message("identify_solver", "nonsense"), ::testing::HasSubstr("identify_solver"));
-  EXPECT_THAT(message("min_tracked_stars", "2"), ::testing::HasSubstr("min_tracked_stars"));
+  using ::testing::HasSubstr;
+  EXPECT_THAT(message("track_gate_sigma", "3x"), HasSubstr("t.ini: [pipeline] track_gate_sigma"));
+  EXPECT_THAT(message("detect_max_stars", "2.5"), HasSubstr("detect_max_stars: not an integer"));
+  EXPECT_THAT(message("detect_reject_spikes", "maybe"), HasSubstr("detect_reject_spikes"));
+  EXPECT_THAT(
+      message("track_gate_sigm", "3"),
+      HasSubstr("[pipeline] key 'track_gate_sigm': unknown key; did you mean 'track_gate_sigma'?"));
+  // Values checked once by TrackerOptions::isValid: reported under the key the user wrote.
+  EXPECT_THAT(message("lis_algorithm", "nonsense"), HasSubstr("key 'lis_algorithm'"));
+  EXPECT_THAT(message("lis_solver", "nonsense"), HasSubstr("key 'lis_solver'"));
+  EXPECT_THAT(message("track_solver", "nonsense"), HasSubstr("key 'track_solver'"));
+  EXPECT_THAT(message("track_min_stars", "2"), HasSubstr("key 'track_min_stars'"));
+  EXPECT_THAT(message("track_gate_sigma", "0"), HasSubstr("key 'track_gate_sigma'"));
+  EXPECT_THAT(message("verify_gate_sigma", "0"), HasSubstr("key 'verify_gate_sigma'"));
+  EXPECT_THAT(message("detect_max_stars", "0"), HasSubstr("key 'detect_max_stars'"));
+  EXPECT_THAT(message("lis_max_stars", "2"), HasSubstr("key 'lis_max_stars'"));
+  EXPECT_THAT(message("gain_e_per_adu", "0"), HasSubstr("key 'gain_e_per_adu'"));
+  EXPECT_THAT(message("lis_min_sigma_px", "0"), HasSubstr("key 'lis_min_sigma_px'"));
+  EXPECT_THAT(message("track_min_sigma_px", "0"), HasSubstr("key 'track_min_sigma_px'"));
   // The sensor's messages avoid ']' (MRPT's stacked exceptions cut there).
-  mrpt::config::CConfigFileMemory cfg(ini({{"gate_sigma", "-1"}}));
+  mrpt::config::CConfigFileMemory cfg("[pipeline]\ntrack_gate_sigma = -1\n");
   PipelineOptions o;
   try {
     readPipelineOptions(IniReader{cfg, "", true}, "pipeline", o);
-    ADD_FAILURE() << "gate_sigma = -1 accepted";
+    ADD_FAILURE() << "track_gate_sigma = -1 accepted";
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), ::testing::HasSubstr("section 'pipeline'"));
+    EXPECT_THAT(e.what(), HasSubstr("section 'pipeline' key 'track_gate_sigma'"));
     EXPECT_EQ(std::string(e.what()).find(']'), std::string::npos) << e.what();
   }
 }

@@ -163,7 +163,7 @@ TEST(StarTrackerSensor, ExternalPredictionMakesTheSecondFrameTrack) {
   const std::string scen = writeScenario(dir);
   resetSimulatedSensorsClock();
   // No frame-to-frame mode: only the external prediction can make a frame track.
-  auto sensor = makeSensor(trackerSection(scen, "frame_to_frame = false\nemit_image = false\n"));
+  auto sensor = makeSensor(trackerSection(scen, "f2f_enabled = false\nemit_image = false\n"));
   const Scenario sc = Scenario::load(scen);
   int asked = 0;
   sensor->setInputsProvider([&](mrpt::Clock::time_point t) {
@@ -188,7 +188,7 @@ TEST(StarTrackerSensor, ExternalPredictionMakesTheSecondFrameTrack) {
 
   // Teeth: the same configuration without the predictor never tracks.
   resetSimulatedSensorsClock();
-  auto bare = makeSensor(trackerSection(scen, "frame_to_frame = false\nemit_image = false\n"));
+  auto bare = makeSensor(trackerSection(scen, "f2f_enabled = false\nemit_image = false\n"));
   const PlayResult none = play(*bare);
   ASSERT_FALSE(none.fixes.empty());
   EXPECT_EQ(bare->framesTracking(), 0);
@@ -221,9 +221,14 @@ TEST(StarTrackerSensor, BadConfigurationNamesSectionAndKey) {
   const std::vector<BadKey> cases = {
       {"", true, "image_source"},
       {"lis_algorithm = no_such_algorithm\n", false, "lis_algorithm"},
-      {"solver = no_such_solver\n", false, "solver"},
-      {"gate_sigma = abc\n", false, "gate_sigma"},
-      {"min_tracked_stars = 1\n", false, "min_tracked_stars"},
+      {"track_solver = no_such_solver\n", false, "key 'track_solver'"},
+      {"lis_solver = no_such_solver\n", false, "key 'lis_solver'"},
+      {"track_gate_sigma = abc\n", false, "track_gate_sigma"},
+      {"track_min_stars = 1\n", false, "key 'track_min_stars'"},
+      {"detect_max_stars = 0\n", false, "key 'detect_max_stars'"},
+      {"verify_gate_sigma = 0\n", false, "key 'verify_gate_sigma'"},
+      {"gate_sigma = 3\n", false, "key 'gate_sigma': renamed to 'track_gate_sigma'"},
+      {"track_gate_sigm = 3\n", false, "key 'track_gate_sigm': unknown key; did you mean 'track_gate_sigma'?"},
       {"emit_image = perhaps\n", false, "emit_image"},
       {"database_file = /no/such/db.bin\n", false, "database_file"},
       {"camera_file = /no/such/camera.yaml\n", false, "camera_file"},

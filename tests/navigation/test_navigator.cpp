@@ -344,7 +344,7 @@ TEST(Navigator, ReinitialisesFromLostInSpaceWhenTheSkyJumps) {
 TEST(NavigatorConfig, ReadsTrackerIniAndNamesBadKeys) {
   mrpt::config::CConfigFileMemory good(
       "[filter]\narw_deg_rt_h = 0.3\nupdate = stars\n[pipeline]\ngain_e_per_adu = 8\n"
-      "solver = svd\n[navigator]\nreinit_after_rejections = 5\n[database]\nmag_limit = 6\n");
+      "track_solver = svd\n[navigator]\nreinit_after_rejections = 5\n[database]\nmag_limit = 6\n");
   const TrackerConfig c = TrackerConfig::fromConfig(good, "t.ini");
   EXPECT_NEAR(c.nav.fusion.filter.arw_rad_rt_s, deg2rad(0.3) / 60.0, 1e-15);
   EXPECT_EQ(c.nav.fusion.update, FusionOptions::Update::kStarVectors);
@@ -367,7 +367,11 @@ TEST(NavigatorConfig, ReadsTrackerIniAndNamesBadKeys) {
             std::string::npos);
   EXPECT_NE(message("[pipeline]\ngain_e_per_adu_typo = 3\n").find("gain_e_per_adu_typo"),
             std::string::npos);
-  EXPECT_NE(message("[pipeline]\nsolver = nonsense\n").find("bad.ini"), std::string::npos);
+  EXPECT_NE(message("[pipeline]\ntrack_solver = nonsense\n").find("bad.ini: [pipeline] key 'track_solver'"),
+            std::string::npos);
+  // An old key name is refused naming its new name, never silently taken or ignored.
+  EXPECT_NE(message("[pipeline]\ngate_sigma = 3\n").find("key 'gate_sigma': renamed to 'track_gate_sigma'"),
+            std::string::npos);
   EXPECT_NE(message("[filter]\nupdate = both\n").find("update"), std::string::npos);
   EXPECT_NE(message("[navigator]\nreinit_after_rejections = 0\n").find("reinit_after"),
             std::string::npos);

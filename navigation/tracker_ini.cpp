@@ -1,0 +1,127 @@
+#include "navigation/tracker_ini.hpp"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+
+namespace st {
+
+const SectionSchema<FilterIniKeys>& filterIniSchema() {
+  using F = FilterIniKeys;
+  static const auto s =
+      SectionSchema<F>()
+          .add("arw_deg_rt_h", &F::arw_deg_rt_h, "[deg/sqrt(h)] gyro angle random walk")
+          .add("rrw_deg_h_rt_h", &F::rrw_deg_h_rt_h, "[deg/h/sqrt(h)] gyro rate random walk")
+          .add("bias_sigma_deg_h", &F::bias_sigma_deg_h, "[deg/h] prior 1-sigma of the gyro bias")
+          .add("gate", &F::gate, "chi-square gate of the updates")
+          .add("gate_probability", &F::gate_probability, "reject when NIS > quantile(p, dof)")
+          .add("max_star_vectors", &F::max_star_vectors, "stars per star-vector update at most")
+          .choice("update", &F::update, {"attitude", "stars"}, "how fixes enter the filter");
+  return s;
+}
+
+NavigatorIniKeys NavigatorIniKeys::of(const NavigatorOptions& o) {
+  NavigatorIniKeys k;
+  const FusionOptions& f = o.fusion;
+  k.reinit_after_rejections = f.reinit_after_rejections;
+  k.reorder_window_s = f.reorder_window_s;
+  k.gyro_gap_factor = f.gyro_gap_factor;
+  k.rate_window_s = f.rate_window_s;
+  k.max_warnings = f.max_warnings;
+  k.camera_label = o.camera_label;
+  k.gyro_label = o.gyro_label;
+  k.truth_label = o.truth_label;
+  k.star_tracker_label = o.star_tracker_label;
+  return k;
+}
+
+const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
+  using K = NavigatorIniKeys;
+  auto make = [](bool with_enabled) {
+    auto s =
+        SectionSchema<K>()
+            .add("reinit_after_rejections", &K::reinit_after_rejections,
+                 "gate rejections in a row -> re-initialise")
+            .add("reorder_window_s", &K::reorder_window_s, "[s] events held this long to be sorted")
+            .add("gyro_gap_factor", &K::gyro_gap_factor,
+                 "a longer gyro interval (x nominal) is a gap")
+            .add("rate_window_s", &K::rate_window_s,
+                 "[s] gyro samples averaged for the rate handed on")
+            .add("max_warnings", &K::max_warnings, "warnings kept (later ones only counted)")
+            .add("gyro_mount_ypr_deg", &K::gyro_mount_ypr_deg,
+                 "[deg] yaw pitch roll of the gyro in the body (w_body = R w_gyro)")
+            .add("camera_label", &K::camera_label, "rawlog label of the frames")
+            .add("gyro_label", &K::gyro_label, "rawlog label of the gyro")
+            .add("truth_label", &K::truth_label, "rawlog label of the truth")
+            .add("star_tracker_label", &K::star_tracker_label, "rawlog label of the fixes (live)");
+    if (with_enabled) s.add("enabled", &K::enabled, "run the filter");
+    return s;
+  };
+  static const auto tracker_schema = make(false), live_schema = make(true);
+  return live ? live_schema : tracker_schema;
+}
+
+const SectionSchema<LiveGlobalIniKeys>& liveGlobalIniSchema() {
+  static const auto s = SectionSchema<LiveGlobalIniKeys>().add(
+      "rawlog_file", &LiveGlobalIniKeys::rawlog_file,
+      "output rawlog, relative to this file's folder (-o wins)");
+  return s;
+}
+
+void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const NavigatorIniKeys& k,
+                     NavigatorOptions& n) {
+  FusionOptions& f = n.fusion;
+  f.filter = MekfOptions::fromDatasheet(fk.arw_deg_rt_h, fk.rrw_deg_h_rt_h, fk.bias_sigma_deg_h);
+  f.filter.gate_enabled = fk.gate;
+  f.filter.gate_probability = fk.gate_probability;
+  f.filter.max_star_vectors = fk.max_star_vectors;
+  f.update =
+      fk.update == "stars" ? FusionOptions::Update::kStarVectors : FusionOptions::Update::kAttitude;
+  f.reinit_after_rejections = k.reinit_after_rejections;
+  f.reorder_window_s = k.reorder_window_s;
+  f.gyro_gap_factor = k.gyro_gap_factor;
+  f.rate_window_s = k.rate_window_s;
+  f.max_warnings = k.max_warnings;
+  const Vec3& ypr = k.gyro_mount_ypr_deg;
+  const auto R = mrpt::poses::CPose3D(0, 0, 0, deg2rad(ypr.x()), deg2rad(ypr.y()), deg2rad(ypr.z()))
+                     .getRotationMatrix();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) f.R_body_gyro(i, j) = R(i, j);
+  n.camera_label = k.camera_label;
+  n.gyro_label = k.gyro_label;
+  n.truth_label = k.truth_label;
+  n.star_tracker_label = k.star_tracker_label;
+  std::string why;
+  if (!f.filter.isValid(&why)) throw InputError(r.where("filter") + ": " + why);
+  if (!f.isValid(&why)) throw InputError(r.where("navigator") + ": " + why);
+}
+
+bool isLiveIni(const IniReader& r) {
+  if (r.cfg.sectionExists("global")) return true;
+  std::vector<std::string> all;
+  r.cfg.getAllSections(all);
+  for (const auto& s : all)
+    if (r.exists(s, "driver")) return true;
+  return false;
+}
+
+LiveIniKeys readLiveIni(const IniReader& r) {
+  LiveIniKeys k;
+  NavigatorOptions defaults;
+  defaults.fusion.reorder_window_s = 0.5;  // live: a fix arrives after its processing time
+  k.navigator = NavigatorIniKeys::of(defaults);
+  liveGlobalIniSchema().read(r, "global", k.global);
+  filterIniSchema().read(r, "filter", k.filter);
+  navigatorIniSchema(true).read(r, "navigator", k.navigator);
+  return k;
+}
+
+std::string printLiveIni(const LiveIniKeys& k) {
+  return liveGlobalIniSchema().print("global", k.global) + "\n" +
+         filterIniSchema().print("filter", k.filter) + "\n" +
+         navigatorIniSchema(true).print("navigator", k.navigator);
+}
+
+}  // namespace st

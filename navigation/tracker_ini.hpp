@@ -1,0 +1,73 @@
+/// @file tracker_ini.hpp
+/// The schemas of the fusion loop's sections, shared by tracker.ini and the live app's .ini,
+/// and of the live app's [global]: strict reading (config/schema.hpp) and the printed
+/// effective configuration of `startracker config`.
+///   [filter]     arw_deg_rt_h, rrw_deg_h_rt_h, bias_sigma_deg_h (gyro datasheet numbers ->
+///                MekfOptions), gate, gate_probability, max_star_vectors, update
+///   [navigator]  FusionOptions (reinit_after_rejections, reorder_window_s, gyro_gap_factor,
+///                rate_window_s, max_warnings, gyro_mount_ypr_deg -> R_body_gyro) and the
+///                rawlog labels of NavigatorOptions; live: also `enabled`
+///   [global]     live: rawlog_file
+/// FusionOptions::R_body_camera is not a key: the navigator takes it from the pipeline's
+/// sensor pose (navigator.cpp).
+#pragma once
+#include <string>
+
+#include "config/schema.hpp"
+#include "navigation/navigator.hpp"
+
+namespace st {
+
+/// [filter]: the datasheet numbers of the gyro; defaults = FusionOptions' default filter.
+struct FilterIniKeys {
+  double arw_deg_rt_h = 0.15;
+  double rrw_deg_h_rt_h = 0.5;
+  double bias_sigma_deg_h = 10.0;
+  bool gate = true;
+  double gate_probability = 0.999;
+  int max_star_vectors = 32;
+  std::string update = "attitude";
+};
+
+/// [navigator]: FusionOptions' loop settings and NavigatorOptions' labels.
+struct NavigatorIniKeys {
+  int reinit_after_rejections = 3;
+  double reorder_window_s = 0.05;
+  double gyro_gap_factor = 2.5;
+  double rate_window_s = 0.1;
+  int max_warnings = 50;
+  Vec3 gyro_mount_ypr_deg = Vec3::Zero();  ///< [deg] yaw pitch roll (MRPT CPose3D) of R_body_gyro
+  std::string camera_label, gyro_label, truth_label, star_tracker_label;
+  bool enabled = true;  ///< live only
+
+  /// The keys of `o` (its defaults; the gyro mount as identity).
+  static NavigatorIniKeys of(const NavigatorOptions& o);
+};
+
+/// The live app's [global].
+struct LiveGlobalIniKeys {
+  std::string rawlog_file = "live.rawlog";
+};
+
+const SectionSchema<FilterIniKeys>& filterIniSchema();
+/// With `enabled` for the live app.
+const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live);
+const SectionSchema<LiveGlobalIniKeys>& liveGlobalIniSchema();
+
+/// The fusion sections as the loop's options: [filter] and [navigator] into `n` (over its
+/// values), then FusionOptions::isValid once, reported under [navigator].
+void applyFusionKeys(const IniReader& r, const FilterIniKeys& f, const NavigatorIniKeys& k,
+                     NavigatorOptions& n);
+
+/// The live app's .ini own sections, read strictly.
+struct LiveIniKeys {
+  LiveGlobalIniKeys global;
+  FilterIniKeys filter;
+  NavigatorIniKeys navigator;
+};
+LiveIniKeys readLiveIni(const IniReader& r);
+std::string printLiveIni(const LiveIniKeys& k);
+/// Whether the file is a live app's .ini: a [global] or a sensor section (a `driver`).
+bool isLiveIni(const IniReader& r);
+
+}  // namespace st
