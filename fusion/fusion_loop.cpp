@@ -13,12 +13,6 @@ namespace {
 
 constexpr std::size_t kRateRing = 256;  // gyro samples kept for the mean rate (>= 1 kHz x 0.1 s)
 
-std::string fmtTime(double t) {
-  char b[64];
-  std::snprintf(b, sizeof b, "t = %.6f s", t);
-  return b;
-}
-
 bool isRotation(const Mat3& R) {
   return (R * R.transpose() - Mat3::Identity()).norm() < 1e-9 && R.determinant() > 0;
 }
@@ -44,6 +38,12 @@ bool FusionOptions::isValid(std::string* why) const {
 
 const char* toString(FusionOptions::Update u) {
   return u == FusionOptions::Update::kStarVectors ? "stars" : "attitude";
+}
+
+std::string formatLoopTime(double t_s) {
+  char b[64];
+  std::snprintf(b, sizeof b, "t = %.6f s", t_s);
+  return b;
 }
 
 const char* toString(FixUse u) {
@@ -111,14 +111,14 @@ void FusionLoop::push(Event e) {
   if (last_processed_ && key <= *last_processed_) {
     const bool dup = key == *last_processed_;
     warn(std::string(dup ? "duplicate " : "out-of-order ") + kNames[e.kind] + " at " +
-         fmtTime(e.t) +
-         (dup ? "" : " (already processed up to " + fmtTime(last_processed_->first) + ")") +
+         formatLoopTime(e.t) +
+         (dup ? "" : " (already processed up to " + formatLoopTime(last_processed_->first) + ")") +
          ": dropped");
     return;
   }
   for (const Event& q : queue_) {
     if (q.t == e.t && q.kind == e.kind) {
-      warn(std::string("duplicate ") + kNames[e.kind] + " at " + fmtTime(e.t) + ": dropped");
+      warn(std::string("duplicate ") + kNames[e.kind] + " at " + formatLoopTime(e.t) + ": dropped");
       return;
     }
   }
@@ -164,7 +164,7 @@ void FusionLoop::process(Event& e) {
 
 void FusionLoop::onGyro(double t, const Vec3& rate) {
   if (!rate.allFinite()) {
-    warn("gyro sample at " + fmtTime(t) + " has a non-finite rate: dropped");
+    warn("gyro sample at " + formatLoopTime(t) + " has a non-finite rate: dropped");
     return;
   }
   double dt = 0;
@@ -174,7 +174,7 @@ void FusionLoop::onGyro(double t, const Vec3& rate) {
   }
   if (last_gyro_t_ && gyro_dt_nominal_ > 0 && dt > opts_.gyro_gap_factor * gyro_dt_nominal_) {
     char b[160];
-    std::snprintf(b, sizeof b, "gyro gap of %.3f s ending at %s: coasted", dt, fmtTime(t).c_str());
+    std::snprintf(b, sizeof b, "gyro gap of %.3f s ending at %s: coasted", dt, formatLoopTime(t).c_str());
     warn(b);
     // The sample is the mean rate over its own interval only: coast up to its start.
     coastTo(t - gyro_dt_nominal_);
@@ -283,8 +283,8 @@ void FusionLoop::onFrame(Event& e) {
   const double t = e.t;
   if (filter_.initialized() && gyroStale(t)) {
     if (!in_gap_) {
-      warn("gyro gap: no gyro sample since " + fmtTime(*last_gyro_t_) + " at the frame at " +
-           fmtTime(t) + ": coasting on the mean of the last rates");
+      warn("gyro gap: no gyro sample since " + formatLoopTime(*last_gyro_t_) + " at the frame at " +
+           formatLoopTime(t) + ": coasting on the mean of the last rates");
       in_gap_ = true;
     }
     coastTo(t);
@@ -328,7 +328,7 @@ FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u)
   if (u.accepted) return FixUse::kAccepted;
   if (filter_.consecutiveRejections() >= opts_.reinit_after_rejections) {
     warn(std::to_string(filter_.consecutiveRejections()) +
-         " star-tracker fixes in a row rejected by the filter at " + fmtTime(t) +
+         " star-tracker fixes in a row rejected by the filter at " + formatLoopTime(t) +
          ": re-initialising from lost-in-space");
     reinit_pending_ = true;
   }

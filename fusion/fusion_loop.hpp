@@ -60,6 +60,8 @@ struct FusionOptions {
 };
 /// "attitude" | "stars".
 const char* toString(FusionOptions::Update u);
+/// "t = 12.345678 s": how every warning of the loop and its adapters names a time.
+std::string formatLoopTime(double t_s);
 
 /// The filter's state at a time, after any update there.
 struct FilterState {

@@ -29,12 +29,6 @@ FusionOptions validatedFusion(const NavigatorOptions& o) {
   return withCameraMounting(o.fusion, o.pipeline);
 }
 
-std::string fmtTime(double t) {
-  char b[64];
-  std::snprintf(b, sizeof b, "t = %.6f s", t);
-  return b;
-}
-
 /// The fix of a sensor's observation as the loop's FrameResult.
 FrameResult frameResultOf(const CObservationStarTracker& o) {
   FrameResult r;
@@ -164,7 +158,7 @@ FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& i
   failed.failure = FrameFailure::kNoImage;
   auto skipped = [&](const std::string& why) {
     failed.detail = why;
-    warn("CAMERA observation at " + fmtTime(t) + ": " + why + ": frame skipped");
+    warn("CAMERA observation at " + formatLoopTime(t) + ": " + why + ": frame skipped");
     frame_obs_ = observationOf(failed, io.timestamp);
     return failed;
   };
