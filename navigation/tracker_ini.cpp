@@ -64,9 +64,18 @@ const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
 }
 
 const SectionSchema<LiveGlobalIniKeys>& liveGlobalIniSchema() {
-  static const auto s = SectionSchema<LiveGlobalIniKeys>().add(
-      "rawlog_file", &LiveGlobalIniKeys::rawlog_file,
-      "output rawlog, relative to this file's folder (-o wins)");
+  using K = LiveGlobalIniKeys;
+  const char* grabber = "rawlog-grabber's key (not used by startracker live)";
+  static const auto s =
+      SectionSchema<K>()
+          .add("rawlog_file", &K::rawlog_file,
+               "output rawlog, relative to this file's folder (-o wins)")
+          .add("rawlog_prefix", &K::rawlog_prefix, grabber)
+          .add("time_between_launches", &K::time_between_launches, grabber)
+          .add("use_sensoryframes", &K::use_sensoryframes, grabber)
+          .add("GRABBER_PERIOD_MS", &K::GRABBER_PERIOD_MS, grabber)
+          .add("rawlog_GZ_compress_level", &K::rawlog_GZ_compress_level, grabber)
+          .add("SF_max_time_span", &K::SF_max_time_span, grabber);
   return s;
 }
 

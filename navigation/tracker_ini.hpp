@@ -47,6 +47,10 @@ struct NavigatorIniKeys {
 /// The live app's [global].
 struct LiveGlobalIniKeys {
   std::string rawlog_file = "live.rawlog";
+  /// MRPT rawlog-grabber's own [global] keys, so one .ini serves both programs; kept as
+  /// text: `live` records to rawlog_file (or -o) on its own schedule and does not use them.
+  std::string rawlog_prefix, time_between_launches, use_sensoryframes, GRABBER_PERIOD_MS,
+      rawlog_GZ_compress_level, SF_max_time_span;
 };
 
 const SectionSchema<FilterIniKeys>& filterIniSchema();
