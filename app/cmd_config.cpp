@@ -17,8 +17,9 @@ void addConfigCommand(CLI::App& root, CommandRun& run) {
   auto* cmd = root.add_subcommand(
       "config",
       "Check an .ini file strictly and print its effective configuration (every default "
-      "filled in; the output reads back). Knows scenarios, camera .ini sections, simulated "
-      "sensor sections and montecarlo run files");
+      "filled in; the output reads back). Knows tracker.ini, live .ini files (their own "
+      "sections and the sensor sections), scenarios, camera .ini sections and montecarlo run "
+      "files");
   struct Opts {
     std::string file, section;
   };

@@ -75,6 +75,7 @@ FusionLoop::FusionLoop(FusionOptions options, StarDirection star_direction)
       star_direction_(std::move(star_direction)),
       filter_(opts_.filter) {
   recent_.reserve(kRateRing);
+  ahead_.reserve(kRateRing);
 }
 
 void FusionLoop::warn(const std::string& msg) {
@@ -244,7 +245,8 @@ FrameInputs FusionLoop::frameInputs(double t) const {
   FrameInputs in;
   // Gyro samples still held for ordering are already known: a live tracker asks ahead of the
   // filter, and one noisy sample extrapolated over the whole window would be worse.
-  std::vector<TimedRate> ahead;
+  std::vector<TimedRate>& ahead = ahead_;
+  ahead.clear();
   for (const Event& e : queue_) {
     if (e.kind == kGyro && e.t <= t && e.rate.allFinite()) ahead.push_back({e.t, e.rate});
   }

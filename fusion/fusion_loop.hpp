@@ -172,6 +172,7 @@ class FusionLoop {
   std::optional<double> last_gyro_t_;
   double gyro_dt_nominal_ = 0;
   std::vector<TimedRate> recent_;  // ring of the last gyro rates (body frame)
+  mutable std::vector<TimedRate> ahead_;  // frameInputs' scratch: gyro samples still held
   std::size_t recent_next_ = 0;
   bool in_gap_ = false;
   bool reinit_pending_ = false;

@@ -29,20 +29,6 @@ FusionOptions validatedFusion(const NavigatorOptions& o) {
   return withCameraMounting(o.fusion, o.pipeline);
 }
 
-/// The fix of a sensor's observation as the loop's FrameResult.
-FrameResult frameResultOf(const CObservationStarTracker& o) {
-  FrameResult r;
-  r.mode = o.mode;
-  r.failure = o.failure;
-  r.detail = o.reason;
-  r.q_ib = o.q_ib;
-  r.cov_body = o.cov_body;
-  r.stars = o.stars;
-  r.num_blobs = o.num_blobs;
-  r.timings = o.timings;
-  return r;
-}
-
 /// Catalog id -> inertial direction, for star-vector updates (sorted ids, binary search).
 FusionLoop::StarDirection starDirections(const StarDatabase& db) {
   auto ids = std::make_shared<std::vector<std::pair<uint32_t, uint32_t>>>();
@@ -87,10 +73,10 @@ void Navigator::warn(const std::string& msg) {
     own_warnings_.push_back(msg);
 }
 
-const std::vector<std::string>& Navigator::warnings() const {
-  all_warnings_ = own_warnings_;
-  all_warnings_.insert(all_warnings_.end(), loop_.warnings().begin(), loop_.warnings().end());
-  return all_warnings_;
+std::vector<std::string> Navigator::warnings() const {
+  std::vector<std::string> all = own_warnings_;
+  all.insert(all.end(), loop_.warnings().begin(), loop_.warnings().end());
+  return all;
 }
 
 int Navigator::warningCount() const {
@@ -128,7 +114,7 @@ void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
       return;
     case kFix:
       held_[tag] = obs;
-      loop_.pushFix(t, tag, frameResultOf(static_cast<const CObservationStarTracker&>(*obs)));
+      loop_.pushFix(t, tag, frameFromObservation(static_cast<const CObservationStarTracker&>(*obs)));
       return;
     case kTruth:
       held_[tag] = obs;

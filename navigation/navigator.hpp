@@ -77,7 +77,8 @@ class Navigator {
   const std::vector<NavStep>& steps() const { return steps_; }
   void setKeepSteps(bool keep) { keep_steps_ = keep; }
 
-  const std::vector<std::string>& warnings() const;
+  /// The navigator's own warnings (unloadable frames), then the loop's.
+  std::vector<std::string> warnings() const;
   int warningCount() const;
   int reinitializations() const { return loop_.reinitializations(); }
   /// Seconds from the first observation pushed to `t` (0 before any).
@@ -101,7 +102,6 @@ class Navigator {
   std::unique_ptr<StarTracker> tracker_;
   FusionLoop loop_;
   std::vector<std::string> own_warnings_;
-  mutable std::vector<std::string> all_warnings_;
 
   std::optional<mrpt::Clock::time_point> t0_;
   uint64_t next_tag_ = 0;

@@ -31,4 +31,17 @@ CObservationStarTracker::Ptr observationFromFrame(const FrameResult& frame,
   return out;
 }
 
+FrameResult frameFromObservation(const CObservationStarTracker& o) {
+  FrameResult r;
+  r.mode = o.mode;
+  r.failure = o.failure;
+  r.detail = o.reason;
+  r.q_ib = o.q_ib;
+  r.cov_body = o.cov_body;
+  r.stars = o.stars;
+  r.num_blobs = o.num_blobs;
+  r.timings = o.timings;
+  return r;
+}
+
 }  // namespace st

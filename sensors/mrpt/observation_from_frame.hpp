@@ -26,6 +26,9 @@ struct PipelineOptions {
 };
 
 /// The observation of one frame: `t` is the frame's timestamp.
+/// The inverse: a recorded fix (e.g. a live sensor's) as the FrameResult the fusion loop takes.
+FrameResult frameFromObservation(const CObservationStarTracker& o);
+
 CObservationStarTracker::Ptr observationFromFrame(const FrameResult& frame,
                                                   mrpt::Clock::time_point t,
                                                   const std::string& sensor_label,
