@@ -10,7 +10,7 @@ PKGS=(
   libmrpt-obs-dev libmrpt-hwdrivers-dev libmrpt-bayes-dev libmrpt-gui-dev
   mrpt-apps
   libopencv-dev libeigen3-dev
-  libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libcfitsio-dev zlib1g-dev
   gnuplot-nox python3
   xvfb xauth
