@@ -54,6 +54,7 @@ const char* toString(FixUse u) {
     case FixUse::kAccepted: return "accepted";
     case FixUse::kRejected: return "rejected";
     case FixUse::kIgnored: return "ignored";
+    case FixUse::kUnfiltered: return "unfiltered";
   }
   return "?";
 }
@@ -253,7 +254,7 @@ FrameInputs FusionLoop::frameInputs(double t) const {
   std::sort(ahead.begin(), ahead.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
   const bool have_rate = !recent_.empty() || !ahead.empty();
   const bool stale = ahead.empty() && gyroStale(t);
-  if (reinit_pending_) {
+  if (reinit_pending_ || !opts_.filter_enabled) {
     in.force_lost_in_space = true;
   } else if (filter_.initialized()) {
     MekfPrediction p;
@@ -312,6 +313,7 @@ void FusionLoop::onFrame(Event& e) {
 
 FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u) {
   if (!fix.hasAttitude()) return FixUse::kNoFix;
+  if (!opts_.filter_enabled) return FixUse::kUnfiltered;
   const bool lis = fix.mode == StarTrackerMode::kLostInSpace;
   if (!filter_.initialized()) {
     filter_.initialize(t, fix.q_ib, fix.cov_body);

@@ -27,7 +27,9 @@
 ///    (FrameInputs::force_lost_in_space) and re-initialises the attitude from the next
 ///    lost-in-space fix, keeping the bias (AttitudeMekf::resetAttitude). Tracking fixes made
 ///    before that request was seen are not used;
-///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector.
+///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector;
+///  - no filter (filter_enabled false, a run without gyro): every frame lost-in-space, the
+///    fixes pass through unfiltered.
 ///
 /// Time: seconds as double on the caller's scale (seconds from the first observation of a
 /// run). Not thread-safe: the live adapter serialises calls.
@@ -55,6 +57,10 @@ struct FusionOptions {
   Mat3 R_body_gyro = Mat3::Identity();    ///< mounting of the gyro: w_body = R w_gyro
   Mat3 R_body_camera = Mat3::Identity();  ///< of the star tracker (star-vector updates)
   int max_warnings = 50;              ///< warnings kept (later ones are only counted)
+  /// false: no filter at all (a run without gyro: nothing propagates the attitude between
+  /// frames, and a filter fed fixes alone diverges on a moving body). Every frame is asked
+  /// for lost-in-space and its fix is the output, unfiltered (FixUse::kUnfiltered).
+  bool filter_enabled = true;
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -80,6 +86,7 @@ enum class FixUse : uint8_t {
   kAccepted,       ///< filter update accepted
   kRejected,       ///< refused by the filter's gate
   kIgnored,        ///< a re-initialisation was pending and the fix was not lost-in-space
+  kUnfiltered,     ///< no filter (FusionOptions::filter_enabled false): the fix is the output
 };
 const char* toString(FixUse u);
 
