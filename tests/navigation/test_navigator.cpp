@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "common/conventions.hpp"
@@ -339,6 +340,32 @@ TEST(Navigator, ReinitialisesFromLostInSpaceWhenTheSkyJumps) {
   EXPECT_LT(rad2arcsec(last.error.cross_boresight), 60.0);
 }
 
+// ---- no filter (a run without gyro, issue 21 item 3) ------------------------------------
+
+TEST(Navigator, WithoutFilterEveryFrameIsLostInSpaceAndItsFixTheOutput) {
+  const Scenario sc = makeScenario(
+      scenarioIni("type = slew\nra_deg = 200\ndec_deg = 45\nrate_deg_s = 0 1 0", "", 2.0, 7));
+  NavigatorOptions o = navOptions(sc);
+  o.fusion.filter_enabled = false;
+  const RunResult r = runScenario(sc, databaseFor(sc), o, sc.frameCount());
+  ASSERT_EQ(r.steps.size(), std::size_t(sc.frameCount()));
+  int fixes = 0;
+  for (const NavStep& s : r.steps) {
+    ASSERT_TRUE(s.has_frame);
+    EXPECT_FALSE(s.initialized) << s.t;
+    EXPECT_EQ(s.mode, s.fix ? StarTrackerMode::kLostInSpace : StarTrackerMode::kFailed) << s.t;
+    EXPECT_EQ(s.use, s.fix ? FixUse::kUnfiltered : FixUse::kNoFix) << s.t;
+    if (!s.fix) continue;
+    ++fixes;
+    ASSERT_TRUE(s.has_truth);
+    // A fix's own covariance holds its error (281 arcsec/px: a few arcsec to tens).
+    EXPECT_LT(s.fix_nees, chiSquareQuantile(0.9999, 3.0)) << s.t;
+  }
+  EXPECT_GE(fixes, sc.frameCount() - 1);
+  EXPECT_EQ(r.reinits, 0);
+  EXPECT_EQ(r.misidentified, 0);
+}
+
 // ---- configuration ------------------------------------------------------------------------
 
 TEST(NavigatorConfig, ReadsTrackerIniAndNamesBadKeys) {
@@ -384,6 +411,38 @@ TEST(NavigatorCsv, OneColumnPerHeaderField) {
   s.mode = StarTrackerMode::kTracking;
   const auto count = [](const std::string& l) { return std::count(l.begin(), l.end(), ','); };
   EXPECT_EQ(count(navStepCsvHeader()), count(navStepCsvRow(s)));
+  s.fix = s.has_truth = s.initialized = true;
+  EXPECT_EQ(count(navStepCsvHeader()), count(navStepCsvRow(s)));
+}
+
+// Absent is "nan", never a 0 that reads as a perfect estimate: no filter state -> the
+// filter's columns; no fix -> the fix's.
+TEST(NavigatorCsv, AbsentFilterAndFixColumnsAreNan) {
+  const auto field = [](const std::string& row, const std::string& name) {
+    std::stringstream h(navStepCsvHeader()), r(row);
+    for (std::string hn, rv; std::getline(h, hn, ',') && std::getline(r, rv, ',');)
+      if (hn == name) return rv;
+    return std::string("<no column>");
+  };
+  NavStep s;
+  s.has_frame = true;
+  s.mode = StarTrackerMode::kLostInSpace;
+  s.fix = s.has_truth = true;
+  s.q_fix = Quat(0.5, 0.5, 0.5, 0.5);
+  s.cov_fix = Mat3::Identity() * 1e-10;
+  const std::string row = navStepCsvRow(s);
+  for (const char* c : {"qw", "bias_x_deg_h", "sigma_x_arcsec", "err_arcsec", "nees",
+                        "sigma_roll_arcsec"})
+    EXPECT_EQ(field(row, c), "nan") << c;
+  EXPECT_EQ(field(row, "fix"), "1");
+  EXPECT_EQ(std::stod(field(row, "fix_qw")), 0.5);
+  EXPECT_NE(field(row, "fix_sigma_roll_arcsec"), "nan");
+  s.fix = false;
+  s.initialized = true;
+  const std::string row2 = navStepCsvRow(s);
+  EXPECT_EQ(field(row2, "fix_qw"), "nan");
+  EXPECT_EQ(field(row2, "fix_nees"), "nan");
+  EXPECT_NE(field(row2, "qw"), "nan");
 }
 
 }  // namespace
