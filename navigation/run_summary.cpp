@@ -30,8 +30,11 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
   const bool filtered =
       std::any_of(steps.begin(), steps.end(), [](const NavStep& s) { return s.initialized; });
   long matched_with_truth = 0, misidentified = 0, blend_claims = 0;
-  std::vector<double> cross, roll, nees, fix_err, filt_err, fix_nees;
+  std::vector<double> cross, roll, nees, fix_err, filt_err, fix_nees, unfiltered_err;
   for (const NavStep& s : steps) {
+    // Fixes of a filtered run made while the filter held no state (suspended: gyro lost).
+    if (filtered && s.has_truth && s.fix && !s.initialized)
+      unfiltered_err.push_back(rad2arcsec(s.fix_error.total));
     if (filtered && s.has_truth && s.initialized) {
       cross.push_back(rad2arcsec(s.error.cross_boresight));
       roll.push_back(std::abs(rad2arcsec(s.error.roll)));
@@ -68,6 +71,10 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
   if (filtered && !fix_err.empty()) {
     std::fprintf(out, "  total, frames with a fix: filter RMS %.2f, raw fixes RMS %.2f\n",
                 rms(filt_err), rms(fix_err));
+  }
+  if (!unfiltered_err.empty()) {
+    std::fprintf(out, "  frames with a fix but no filter state (not in the lines above): %zu, raw "
+                 "fixes RMS %.2f\n", unfiltered_err.size(), rms(unfiltered_err));
   }
   if (!filtered) {
     std::fprintf(out, "  total: raw fixes RMS %.2f\n", rms(fix_err));
