@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/command.hpp"
+#include "app/output_file.hpp"
 #include "app/plot.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
@@ -54,9 +55,17 @@ void linkImages(const std::string& input, const std::string& output) {
   }
 }
 
-void plots(const std::vector<NavStep>& steps, const std::string& dir) {
-  fs::create_directories(dir);
-  Plot err = makePlot("Attitude error (filter - truth) with +-3 sigma", "time [s]", "error [arcsec]");
+/// Plots of a run; without a filter (no gyro) the raw fixes take the filter's place and there is
+/// no bias plot. Returns the names drawn.
+std::string plots(const std::vector<NavStep>& steps, const std::string& dir) {
+  const bool filtered =
+      std::any_of(steps.begin(), steps.end(), [](const NavStep& s) { return s.initialized; });
+  const auto scored = [filtered](const NavStep& s) {
+    return s.has_truth && (filtered ? s.initialized : s.fix);
+  };
+  Plot err = makePlot(filtered ? "Attitude error (filter - truth) with +-3 sigma"
+                               : "Attitude error (raw fixes, no filter - truth) with +-3 sigma",
+                      "time [s]", "error [arcsec]");
   const char* axes[3] = {"x", "y", "z (roll)"};
   const char* colors[3] = {"#1f77b4", "#2ca02c", "#d62728"};
   for (int i = 0; i < 3; ++i) {
@@ -66,29 +75,29 @@ void plots(const std::vector<NavStep>& steps, const std::string& dir) {
     s3.dashed = s3n.dashed = true;
     s3.title = std::string("+-3 sigma ") + axes[i];
     for (const NavStep& s : steps) {
-      if (!s.has_truth || !s.initialized) continue;
+      if (!scored(s)) continue;
+      const double ei = filtered ? s.error.rotvec_body[i] : s.fix_error.rotvec_body[i];
+      const double si = filtered ? s.sigma_att[i] : std::sqrt(std::max(0.0, s.cov_fix(i, i)));
       e.x.push_back(s.t);
-      e.y.push_back(rad2arcsec(s.error.rotvec_body[i]));
+      e.y.push_back(rad2arcsec(ei));
       s3.x.push_back(s.t);
-      s3.y.push_back(3 * rad2arcsec(s.sigma_att[i]));
+      s3.y.push_back(3 * rad2arcsec(si));
       s3n.x.push_back(s.t);
-      s3n.y.push_back(-3 * rad2arcsec(s.sigma_att[i]));
+      s3n.y.push_back(-3 * rad2arcsec(si));
     }
     err.series.push_back(e);
     err.series.push_back(s3);
     err.series.push_back(s3n);
   }
-  Plot nees = makePlot("Attitude NEES (3 dof) with the 95 % chi-square band", "time [s]", "NEES");
+  Plot nees = makePlot(filtered ? "Attitude NEES (3 dof) with the 95 % chi-square band"
+                                : "Raw fix NEES (3 dof, no filter) with the 95 % chi-square band",
+                       "time [s]", "NEES");
   PlotSeries n("NEES", PlotStyle::Points);
   for (const NavStep& s : steps) {
-    if (!s.has_truth || !s.initialized) continue;
+    if (!scored(s)) continue;
     n.x.push_back(s.t);
-    n.y.push_back(s.nees);
+    n.y.push_back(filtered ? s.nees : s.fix_nees);
   }
-  nees.series.push_back(n);
-  nees.ref_lines = {{chiSquareQuantile(0.025, 3), "chi2(3) 2.5 %"},
-                    {chiSquareQuantile(0.975, 3), "chi2(3) 97.5 %"}};
-  nees.log_y = true;
   Plot bias = makePlot("Gyro bias estimate", "time [s]", "bias [deg/h]");
   for (int i = 0; i < 3; ++i) {
     PlotSeries b(std::string("bias ") + "xyz"[i], PlotStyle::Lines);
@@ -111,24 +120,62 @@ void plots(const std::vector<NavStep>& steps, const std::string& dir) {
   }
   stars.series.push_back(ns);
   ftime.series.push_back(ft);
-  const std::pair<const Plot*, const char*> all[] = {{&err, "error"}, {&nees, "nees"},
-                                                     {&bias, "bias"}, {&stars, "stars"},
-                                                     {&ftime, "frame_time"}};
+  std::vector<std::pair<const Plot*, const char*>> all = {{&err, "error"}, {&nees, "nees"}};
+  if (filtered) all.push_back({&bias, "bias"});
+  all.push_back({&stars, "stars"});
+  all.push_back({&ftime, "frame_time"});
+  std::string names;
   for (const auto& [p, name] : all) {
     const std::string png = (fs::path(dir) / (std::string(name) + ".png")).string();
     try {
       savePlot(*p, png);
     } catch (const ProcessingError& e) {
       std::fprintf(stderr, "[replay] plot %s not drawn: %s\n", png.c_str(), e.what());
-      return;
+      break;
     }
+    names += (names.empty() ? "" : ",") + std::string(name);
   }
+  return names;
+}
+
+/// Every output path is checked before the (possibly long) run, so a typo fails at once.
+void prepareOutputs(const ReplayOpts& o) {
+  if (!o.output.empty()) {
+    std::error_code ec;
+    if (fs::equivalent(o.output, o.rawlog, ec))
+      throw InputError(o.output + ": the output rawlog must differ from the input");
+    prepareOutputFile(o.output, "-o/--output");
+  }
+  if (!o.csv.empty()) prepareOutputFile(o.csv, "--csv");
+  if (!o.plots.empty()) prepareOutputDir(o.plots, "--plots");
+}
+
+/// MRPT reads external images from `<stem>_Images` beside the rawlog; a missing folder would
+/// otherwise show as one loader error per frame and no frame processed.
+void checkImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs, const ReplayOpts& o,
+                 const std::string& camera_label) {
+  const ExternalImages im = checkExternalImages(obs, camera_label);
+  if (im.missing == 0) return;
+  const std::string dir = fs::absolute(rawlogImagesDir(o.rawlog)).string();
+  const std::string where = "external images are read from " + dir +
+                            " (MRPT's <stem>_Images beside the rawlog)";
+  if (im.missing == im.external) {
+    throw InputError(o.rawlog + ": none of its " + std::to_string(im.external) + " " +
+                     camera_label + " images found: " + where + "; first missing: " +
+                     im.first_missing);
+  }
+  std::fprintf(stderr,
+               "[replay] warning: %zu of %zu %s images missing (first: %s); %s; those frames "
+               "are skipped\n",
+               im.missing, im.external, camera_label.c_str(), im.first_missing.c_str(),
+               where.c_str());
 }
 
 int runReplay(const ReplayOpts& o) {
   if (!fs::is_regular_file(o.rawlog)) throw InputError(o.rawlog + ": rawlog not found");
   TrackerConfig cfg;
   if (!o.config.empty()) cfg = TrackerConfig::load(o.config);
+  prepareOutputs(o);
 
   // All observations first (external images stay on disk until a frame needs them).
   const std::vector<mrpt::obs::CObservation::Ptr> obs = readRawlog(o.rawlog);
@@ -144,6 +191,21 @@ int runReplay(const ReplayOpts& o) {
     throw InputError(o.rawlog + ": no " + cfg.nav.camera_label +
                      " (CObservationImage) observation: nothing to replay");
   }
+  checkImages(obs, o, cfg.nav.camera_label);
+  // Without a gyro nothing carries the attitude from one frame to the next: a filter fed fixes
+  // alone lags a moving body until its gate refuses every fix (issue 21: 1.7 deg off on the
+  // tour's slew). Until gyroless tracking exists, each frame is solved on its own.
+  const bool has_gyro = std::any_of(obs.begin(), obs.end(), [&](const auto& ob) {
+    return isGyroObservation(*ob, cfg.nav);
+  });
+  if (!has_gyro) {
+    std::fprintf(stderr,
+                 "[replay] warning: no %s observations: without gyro rates there is no attitude "
+                 "filter; every frame is solved lost-in-space and the raw fixes are the output "
+                 "(the CSV's filter columns are nan, no filter NEES)\n",
+                 cfg.nav.gyro_label.c_str());
+    cfg.nav.fusion.filter_enabled = false;
+  }
   const double epoch = julianYear(obs.front()->timestamp);
   const auto t_db = std::chrono::steady_clock::now();
   const StarDatabase db = makeDatabase(cfg.database, *camera, epoch);
@@ -152,11 +214,6 @@ int runReplay(const ReplayOpts& o) {
 
   std::unique_ptr<RawlogWriter> writer;
   if (!o.output.empty()) {
-    if (fs::exists(o.output) && fs::equivalent(o.output, o.rawlog))
-      throw InputError(o.output + ": the output rawlog must differ from the input");
-    const fs::path parent = fs::path(o.output).parent_path();
-    std::error_code ec;
-    if (!parent.empty()) fs::create_directories(parent, ec);
     writer = std::make_unique<RawlogWriter>(o.output);
     linkImages(o.rawlog, o.output);
   }
@@ -226,8 +283,8 @@ int runReplay(const ReplayOpts& o) {
                 writer->count(), star_tracker_written);
   }
   if (!o.plots.empty()) {
-    plots(steps, o.plots);
-    std::printf("plots: %s/{error,nees,bias,stars,frame_time}.png\n", o.plots.c_str());
+    const std::string drawn = plots(steps, o.plots);
+    std::printf("plots: %s/{%s}.png\n", o.plots.c_str(), drawn.c_str());
   }
   return solved > 0 ? kExitOk : kExitFailure;
 }

@@ -1,13 +1,55 @@
 // `startracker simulate SCENARIO.ini -o run.rawlog`: sky images + gyro + truth -> rawlog.
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
+#include <vector>
 
 #include "app/command.hpp"
+#include "app/output_file.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "sensors/sim/rawlog_writer.hpp"
 #include "sensors/sim/scenario.hpp"
 
 namespace st::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// An earlier run at the same path is replaced only on request, and then whole: frames of a
+/// longer earlier run would otherwise survive beside the new rawlog's, looking like its own.
+void replaceEarlierRun(const std::string& rawlog, bool force) {
+  const fs::path images = externalImagesDir(rawlog);
+  std::error_code ec;
+  const bool rawlog_exists = fs::exists(rawlog, ec);
+  const bool images_link = fs::is_symlink(images, ec);
+  const bool images_used =
+      images_link || (fs::is_directory(images, ec) && !fs::is_empty(images, ec));
+  if (!rawlog_exists && !images_used) return;
+  if (!force) {
+    throw InputError("-o/--output " + rawlog + ": " +
+                     (rawlog_exists ? std::string("the rawlog exists")
+                                    : images.string() + " holds images of an earlier run") +
+                     "; --force (-f) replaces it and empties " + images.string());
+  }
+  ec.clear();
+  if (images_link) {
+    // Only the link: its target is another rawlog's folder (replay -o links the input's).
+    fs::remove(images, ec);
+  } else if (fs::is_directory(images, ec)) {
+    std::vector<fs::path> entries;
+    for (const auto& entry : fs::directory_iterator(images, ec)) entries.push_back(entry.path());
+    for (const fs::path& p : entries) {
+      if (ec) break;
+      fs::remove_all(p, ec);
+    }
+  }
+  if (ec) throw InputError(images.string() + ": cannot empty the earlier run's images (" +
+                           ec.message() + ")");
+}
+
+}  // namespace
 
 void addSimulateCommand(CLI::App& root, CommandRun& run) {
   auto* cmd = root.add_subcommand(
@@ -18,7 +60,7 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
     std::string scenario, output;
     uint64_t seed = 0;
     int frames = 0;
-    bool inline_images = false, quiet = false;
+    bool inline_images = false, quiet = false, force = false;
   };
   auto o = std::make_shared<Opts>();
   cmd->add_option("scenario", o->scenario, "Scenario .ini (see sensors/sim/scenario.hpp)")
@@ -28,9 +70,13 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
   auto* frames_opt = cmd->add_option("--frames", o->frames, "Limit the run to N frames");
   cmd->add_flag("--inline-images", o->inline_images, "Store images inside the rawlog");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+  cmd->add_flag("-f,--force", o->force,
+                "Replace an existing rawlog, emptying its <stem>_Images/ first");
   cmd->callback([o, seed_opt, frames_opt, &run] {
     run = [o, seed_opt, frames_opt] {
       const Scenario sc = Scenario::load(o->scenario);
+      prepareOutputFile(o->output, "-o/--output");
+      replaceEarlierRun(o->output, o->force);
       SimulateOptions opts;
       if (seed_opt->count() > 0) opts.seed = o->seed;
       if (frames_opt->count() > 0) opts.frames = o->frames;

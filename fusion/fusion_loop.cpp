@@ -29,6 +29,7 @@ bool FusionOptions::isValid(std::string* why) const {
   if (reinit_after_rejections < 1) return bad("reinit_after_rejections", "must be >= 1");
   if (!(reorder_window_s >= 0)) return bad("reorder_window_s", "must be >= 0");
   if (!(gyro_gap_factor > 1)) return bad("gyro_gap_factor", "must be > 1");
+  if (!(max_gyro_coast_s > 0)) return bad("max_gyro_coast_s", "must be > 0");
   if (!(rate_window_s > 0)) return bad("rate_window_s", "must be > 0");
   if (!isRotation(R_body_gyro)) return bad("R_body_gyro", "not a rotation matrix");
   if (!isRotation(R_body_camera)) return bad("R_body_camera", "not a rotation matrix");
@@ -54,6 +55,7 @@ const char* toString(FixUse u) {
     case FixUse::kAccepted: return "accepted";
     case FixUse::kRejected: return "rejected";
     case FixUse::kIgnored: return "ignored";
+    case FixUse::kUnfiltered: return "unfiltered";
   }
   return "?";
 }
@@ -168,6 +170,13 @@ void FusionLoop::onGyro(double t, const Vec3& rate) {
     warn("gyro sample at " + formatLoopTime(t) + " has a non-finite rate: dropped");
     return;
   }
+  if (gyro_lost_) {
+    gyro_lost_ = false;
+    reinit_pending_ = true;
+    warn("gyro samples again at " + formatLoopTime(t) +
+         ": re-initialising the filter from lost-in-space");
+    last_gyro_t_.reset();  // no gap to coast through: the attitude restarts from a fix
+  }
   double dt = 0;
   if (last_gyro_t_) {
     dt = t - *last_gyro_t_;
@@ -216,6 +225,11 @@ bool FusionLoop::gyroStale(double t) const {
          t - *last_gyro_t_ > opts_.gyro_gap_factor * gyro_dt_nominal_;
 }
 
+bool FusionLoop::gyroLost(double t) const {
+  return gyro_lost_ ||
+         (filter_.initialized() && gyroStale(t) && t - *last_gyro_t_ > opts_.max_gyro_coast_s);
+}
+
 void FusionLoop::coastTo(double t) {
   if (!filter_.initialized() || !(t > filter_.time())) return;
   // Without gyro samples the rate is held at the mean of the last samples. That rate's error
@@ -253,7 +267,7 @@ FrameInputs FusionLoop::frameInputs(double t) const {
   std::sort(ahead.begin(), ahead.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
   const bool have_rate = !recent_.empty() || !ahead.empty();
   const bool stale = ahead.empty() && gyroStale(t);
-  if (reinit_pending_) {
+  if (reinit_pending_ || !opts_.filter_enabled || (ahead.empty() && gyroLost(t))) {
     in.force_lost_in_space = true;
   } else if (filter_.initialized()) {
     MekfPrediction p;
@@ -283,13 +297,24 @@ FrameInputs FusionLoop::frameInputs(double t) const {
 
 void FusionLoop::onFrame(Event& e) {
   const double t = e.t;
-  if (filter_.initialized() && gyroStale(t)) {
-    if (!in_gap_) {
-      warn("gyro gap: no gyro sample since " + formatLoopTime(*last_gyro_t_) + " at the frame at " +
-           formatLoopTime(t) + ": coasting on the mean of the last rates");
-      in_gap_ = true;
+  if (filter_.initialized() && !gyro_lost_ && gyroStale(t)) {
+    if (gyroLost(t)) {
+      char b[96];
+      std::snprintf(b, sizeof b, "%.3f s (max_gyro_coast_s %.3f s)", t - *last_gyro_t_,
+                    opts_.max_gyro_coast_s);
+      warn("gyro lost: no gyro sample since " + formatLoopTime(*last_gyro_t_) +
+           " at the frame at " + formatLoopTime(t) + ", " + b +
+           ": the filter is suspended; frames are solved lost-in-space and their fixes "
+           "reported unfiltered until the gyro returns");
+      gyro_lost_ = filter_suspended_ = true;
+    } else {
+      if (!in_gap_) {
+        warn("gyro gap: no gyro sample since " + formatLoopTime(*last_gyro_t_) +
+             " at the frame at " + formatLoopTime(t) + ": coasting on the mean of the last rates");
+        in_gap_ = true;
+      }
+      coastTo(t);
     }
-    coastTo(t);
   }
   FrameResult made;
   const FrameResult* fix = nullptr;
@@ -312,6 +337,7 @@ void FusionLoop::onFrame(Event& e) {
 
 FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u) {
   if (!fix.hasAttitude()) return FixUse::kNoFix;
+  if (!opts_.filter_enabled || gyro_lost_) return FixUse::kUnfiltered;
   const bool lis = fix.mode == StarTrackerMode::kLostInSpace;
   if (!filter_.initialized()) {
     filter_.initialize(t, fix.q_ib, fix.cov_body);
@@ -321,7 +347,7 @@ FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u)
     if (!lis) return FixUse::kIgnored;
     // Keep what the filter learned about the bias; the attitude restarts from the fix.
     filter_.resetAttitude(t, fix.q_ib, fix.cov_body);
-    reinit_pending_ = false;
+    reinit_pending_ = filter_suspended_ = false;
     ++reinits_;
     return FixUse::kReinitialized;
   }
@@ -362,7 +388,7 @@ MekfUpdateResult FusionLoop::update(const FrameResult& fix) {
 
 FilterState FusionLoop::stateAt(double t) const {
   FilterState s;
-  s.initialized = filter_.initialized();
+  s.initialized = filter_.initialized() && !filter_suspended_;
   if (!s.initialized) return s;
   if (t == filter_.time()) {
     s.q_ib = filter_.attitude();

@@ -27,7 +27,10 @@
 ///    (FrameInputs::force_lost_in_space) and re-initialises the attitude from the next
 ///    lost-in-space fix, keeping the bias (AttitudeMekf::resetAttitude). Tracking fixes made
 ///    before that request was seen are not used;
-///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector.
+///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector;
+///  - no filter (filter_enabled false, a run without gyro) or a gyro silent for longer than
+///    max_gyro_coast_s: every frame lost-in-space, the fixes pass through unfiltered (a
+///    suspended filter reports no state until it is re-initialised after the gyro returns).
 ///
 /// Time: seconds as double on the caller's scale (seconds from the first observation of a
 /// run). Not thread-safe: the live adapter serialises calls.
@@ -51,10 +54,20 @@ struct FusionOptions {
   double reorder_window_s = 0.05;     ///< events are held this long to be sorted
   /// A gyro interval longer than this many nominal intervals is a gap (coasted through).
   double gyro_gap_factor = 2.5;
+  /// [s] A gyro silent longer than this before a frame has stopped, not paused: coasting
+  /// holds the last rate, and a body that turns away from it leaves the filter's covariance
+  /// behind (the tour's jitter: 8 deg off after 60 s). The filter is suspended: every frame
+  /// lost-in-space, its fix unfiltered, until gyro samples return and a lost-in-space fix
+  /// re-initialises the attitude (keeping the bias).
+  double max_gyro_coast_s = 1.0;
   double rate_window_s = 0.1;         ///< [s] gyro samples averaged for the rate handed on
   Mat3 R_body_gyro = Mat3::Identity();    ///< mounting of the gyro: w_body = R w_gyro
   Mat3 R_body_camera = Mat3::Identity();  ///< of the star tracker (star-vector updates)
   int max_warnings = 50;              ///< warnings kept (later ones are only counted)
+  /// false: no filter at all (a run without gyro: nothing propagates the attitude between
+  /// frames, and a filter fed fixes alone diverges on a moving body). Every frame is asked
+  /// for lost-in-space and its fix is the output, unfiltered (FixUse::kUnfiltered).
+  bool filter_enabled = true;
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -80,6 +93,7 @@ enum class FixUse : uint8_t {
   kAccepted,       ///< filter update accepted
   kRejected,       ///< refused by the filter's gate
   kIgnored,        ///< a re-initialisation was pending and the fix was not lost-in-space
+  kUnfiltered,     ///< no filter (FusionOptions::filter_enabled false): the fix is the output
 };
 const char* toString(FixUse u);
 
@@ -153,6 +167,7 @@ class FusionLoop {
   MekfUpdateResult update(const FrameResult& fix);
   void coastTo(double t);
   bool gyroStale(double t) const;
+  bool gyroLost(double t) const;
   Vec3 meanRate(double t, const std::vector<TimedRate>& extra) const;
   FilterState stateAt(double t) const;
   void emit(FusionStep& s);
@@ -175,6 +190,8 @@ class FusionLoop {
   mutable std::vector<TimedRate> ahead_;  // frameInputs' scratch: gyro samples still held
   std::size_t recent_next_ = 0;
   bool in_gap_ = false;
+  bool gyro_lost_ = false;         // silent beyond max_gyro_coast_s: no filtering
+  bool filter_suspended_ = false;  // since the gyro was lost, until re-initialised
   bool reinit_pending_ = false;
   int reinits_ = 0;
   std::vector<std::string> warnings_;

@@ -25,21 +25,34 @@ std::string navStepCsvHeader() {
          "innov_x_arcsec,innov_y_arcsec,innov_z_arcsec,innov_sigma_x_arcsec,"
          "innov_sigma_y_arcsec,innov_sigma_z_arcsec,nis,nis_dof,has_truth,err_arcsec,"
          "err_cross_arcsec,err_roll_arcsec,nees,fix_err_arcsec,sigma_cross_arcsec,"
-         "sigma_roll_arcsec,fix_nees,misidentified,blend_claims";
+         "sigma_roll_arcsec,fix_nees,misidentified,blend_claims,"
+         "fix,fix_qw,fix_qx,fix_qy,fix_qz,fix_sigma_cross_arcsec,fix_sigma_roll_arcsec,"
+         "fix_err_cross_arcsec,fix_err_roll_arcsec";
 }
 
 std::string navStepCsvRow(const NavStep& s) {
   const double deg_h = kDegPerRad * 3600.0;
+  // An absent value is "nan" (not 0, which reads as a perfect estimate): the filter's columns
+  // before the filter holds a state or in a run without a filter, the raw fix's without a fix.
+  const bool filt = s.initialized, fix = s.fix, fix_truth = s.fix && s.has_truth;
   std::ostringstream o;
   o.precision(10);
+  const auto put = [&o](bool present, double v) {
+    o << ',';
+    if (present) {
+      o << v;
+    } else {
+      o << "nan";
+    }
+  };
   o << s.t << ',' << int(s.has_frame) << ','
     << (s.has_frame ? toString(s.mode) : "no-frame") << ',' << s.stars_matched << ','
     << s.frame_time_s * 1e3 << ',' << int(s.initialized) << ',' << int(s.reinitialized);
   const Quat q = canonical(s.q_ib);
-  o << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z();
-  for (int i = 0; i < 3; ++i) o << ',' << s.bias[i] * deg_h;
-  for (int i = 0; i < 3; ++i) o << ',' << rad2arcsec(s.sigma_att[i]);
-  for (int i = 0; i < 3; ++i) o << ',' << s.sigma_bias[i] * deg_h;
+  for (double c : {q.w(), q.x(), q.y(), q.z()}) put(filt, c);
+  for (int i = 0; i < 3; ++i) put(filt, s.bias[i] * deg_h);
+  for (int i = 0; i < 3; ++i) put(filt, rad2arcsec(s.sigma_att[i]));
+  for (int i = 0; i < 3; ++i) put(filt, s.sigma_bias[i] * deg_h);
   o << ',' << toString(s.use);
   for (int i = 0; i < 3; ++i)
     o << ',' << (s.innovation.size() > i ? rad2arcsec(s.innovation[i]) : 0.0);
@@ -48,12 +61,25 @@ std::string navStepCsvRow(const NavStep& s) {
       << (s.innovation_cov.rows() > i ? rad2arcsec(std::sqrt(s.innovation_cov(i, i))) : 0.0);
   }
   o << ',' << s.nis << ',' << s.nis_dof << ',' << int(s.has_truth);
-  o << ',' << rad2arcsec(s.error.total) << ',' << rad2arcsec(s.error.cross_boresight) << ','
-    << rad2arcsec(s.error.roll) << ',' << s.nees << ','
-    << (s.fix && s.has_truth ? rad2arcsec(s.fix_error.total) : 0.0);
+  put(filt, rad2arcsec(s.error.total));
+  put(filt, rad2arcsec(s.error.cross_boresight));
+  put(filt, rad2arcsec(s.error.roll));
+  put(filt, s.nees);
+  put(fix_truth, rad2arcsec(s.fix_error.total));
   const AttitudeSigma sg = attitudeSigma(s.P_att);
-  o << ',' << rad2arcsec(sg.cross_boresight) << ',' << rad2arcsec(sg.roll);
-  o << ',' << (s.fix && s.has_truth ? s.fix_nees : 0.0) << ',' << s.misidentified << ',' << s.blend_claims;
+  put(filt, rad2arcsec(sg.cross_boresight));
+  put(filt, rad2arcsec(sg.roll));
+  put(fix_truth, s.fix_nees);
+  o << ',' << s.misidentified << ',' << s.blend_claims;
+  // The raw fix itself: the output of a run without a filter.
+  o << ',' << int(fix);
+  const Quat qf = canonical(s.q_fix);
+  for (double c : {qf.w(), qf.x(), qf.y(), qf.z()}) put(fix, c);
+  const AttitudeSigma sf = attitudeSigma(s.cov_fix);
+  put(fix, rad2arcsec(sf.cross_boresight));
+  put(fix, rad2arcsec(sf.roll));
+  put(fix_truth, rad2arcsec(s.fix_error.cross_boresight));
+  put(fix_truth, rad2arcsec(s.fix_error.roll));
   return o.str();
 }
 

@@ -59,7 +59,10 @@ struct NavStep {
 /// Copies a filter state into a step (attitude, bias, covariance, 1-sigma per axis).
 void fillFilterState(NavStep& s, const FilterState& f);
 
-/// CSV of the steps: header line and one row (t in seconds from the first observation).
+/// CSV of the steps: header line and one row (t in seconds from the first observation). An
+/// absent value is `nan`: the filter's columns (attitude, bias, sigmas, err_*, nees) while the
+/// filter holds no state, which is every row of a run without a filter (no gyro); the raw
+/// fix's columns (fix_*) on a frame without a fix or, for errors, without truth.
 std::string navStepCsvHeader();
 std::string navStepCsvRow(const NavStep& s);
 /// Writes the header and one row per step with a frame; returns the rows written. Throws

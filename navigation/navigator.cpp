@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "common/check.hpp"
@@ -43,6 +44,10 @@ FusionLoop::StarDirection starDirections(const StarDatabase& db) {
 }
 
 }  // namespace
+
+bool isGyroObservation(const mrpt::obs::CObservation& obs, const NavigatorOptions& o) {
+  return obs.sensorLabel == o.gyro_label && dynamic_cast<const mrpt::obs::CObservationIMU*>(&obs);
+}
 
 bool NavigatorOptions::isValid(std::string* why) const {
   return fusion.isValid(why) && pipeline.trackerOptions().isValid(why);
@@ -85,7 +90,7 @@ int Navigator::warningCount() const {
 
 Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs) const {
   const std::string& l = obs.sensorLabel;
-  if (l == opts_.gyro_label && dynamic_cast<const mrpt::obs::CObservationIMU*>(&obs)) return kGyro;
+  if (isGyroObservation(obs, opts_)) return kGyro;
   if (source_ == Source::kCameraFrames && l == opts_.camera_label &&
       dynamic_cast<const mrpt::obs::CObservationImage*>(&obs))
     return kCamera;
@@ -148,6 +153,13 @@ FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& i
     frame_obs_ = observationOf(failed, io.timestamp);
     return failed;
   };
+  // A missing external file is said in one line; MRPT's loader would throw a stack dump.
+  if (io.image.isExternallyStored()) {
+    const std::string file = io.image.getExternalStorageFileAbsolutePath();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+      return skipped("image file " + file + " not found");
+  }
   cv::Mat image;
   try {
     io.image.forceLoad();

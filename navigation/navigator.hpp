@@ -47,6 +47,10 @@ struct NavigatorOptions {
   bool isValid(std::string* why = nullptr) const;
 };
 
+/// A gyro sample of the rawlog contract: a CObservationIMU labelled `o.gyro_label`. The one
+/// test, for the navigator and for a caller that looks at a rawlog before replaying it.
+bool isGyroObservation(const mrpt::obs::CObservation& obs, const NavigatorOptions& o);
+
 class Navigator {
  public:
   enum class Source {

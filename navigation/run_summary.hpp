@@ -1,7 +1,8 @@
 /// @file run_summary.hpp
 /// The summary of a navigator run against GROUND_TRUTH, printed by `replay` and `live` alike:
 /// attitude errors (cross-boresight, roll, filter vs raw fixes), NEES of the filter and of the
-/// raw fixes, identification errors. Prints nothing without truth.
+/// raw fixes, identification errors. Prints nothing without truth. A run without a filter (no
+/// step holds a filter state: no gyro) is scored on its raw fixes, with no filter NEES.
 #pragma once
 #include <cstdio>
 #include <vector>

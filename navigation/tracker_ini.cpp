@@ -28,6 +28,7 @@ NavigatorIniKeys NavigatorIniKeys::of(const NavigatorOptions& o) {
   k.reinit_after_rejections = f.reinit_after_rejections;
   k.reorder_window_s = f.reorder_window_s;
   k.gyro_gap_factor = f.gyro_gap_factor;
+  k.max_gyro_coast_s = f.max_gyro_coast_s;
   k.rate_window_s = f.rate_window_s;
   k.max_warnings = f.max_warnings;
   k.camera_label = o.camera_label;
@@ -47,6 +48,9 @@ const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
             .add("reorder_window_s", &K::reorder_window_s, "[s] events held this long to be sorted")
             .add("gyro_gap_factor", &K::gyro_gap_factor,
                  "a longer gyro interval (x nominal) is a gap")
+            .add("max_gyro_coast_s", &K::max_gyro_coast_s,
+                 "[s] a gyro silent longer suspends the filter (frames lost-in-space, raw fixes) "
+                 "until it returns")
             .add("rate_window_s", &K::rate_window_s,
                  "[s] gyro samples averaged for the rate handed on")
             .add("max_warnings", &K::max_warnings, "warnings kept (later ones only counted)")
@@ -91,6 +95,7 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   f.reinit_after_rejections = k.reinit_after_rejections;
   f.reorder_window_s = k.reorder_window_s;
   f.gyro_gap_factor = k.gyro_gap_factor;
+  f.max_gyro_coast_s = k.max_gyro_coast_s;
   f.rate_window_s = k.rate_window_s;
   f.max_warnings = k.max_warnings;
   const Vec3& ypr = k.gyro_mount_ypr_deg;

@@ -5,7 +5,7 @@
 ///   [filter]     arw_deg_rt_h, rrw_deg_h_rt_h, bias_sigma_deg_h (gyro datasheet numbers ->
 ///                MekfOptions), gate, gate_probability, max_star_vectors, update
 ///   [navigator]  FusionOptions (reinit_after_rejections, reorder_window_s, gyro_gap_factor,
-///                rate_window_s, max_warnings, gyro_mount_ypr_deg -> R_body_gyro) and the
+///                max_gyro_coast_s, rate_window_s, max_warnings, gyro_mount_ypr_deg -> R_body_gyro) and the
 ///                rawlog labels of NavigatorOptions; live: also `enabled`
 ///   [global]     live: rawlog_file
 /// FusionOptions::R_body_camera is not a key: the navigator takes it from the pipeline's
@@ -34,6 +34,7 @@ struct NavigatorIniKeys {
   int reinit_after_rejections = 3;
   double reorder_window_s = 0.05;
   double gyro_gap_factor = 2.5;
+  double max_gyro_coast_s = 1.0;
   double rate_window_s = 0.1;
   int max_warnings = 50;
   Vec3 gyro_mount_ypr_deg = Vec3::Zero();  ///< [deg] yaw pitch roll (MRPT CPose3D) of R_body_gyro

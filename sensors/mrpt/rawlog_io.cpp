@@ -3,6 +3,7 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/rtti/CObject.h>
 #include <mrpt/serialization/CArchive.h>
@@ -96,8 +97,7 @@ RawlogReader::RawlogReader(const std::string& path) : path_(path) {
     throw InputError("rawlog '" + path + "': cannot open" + (err.empty() ? "" : " (" + err + ")"));
   }
   ar_ = mrpt::serialization::archiveUniquePtrFrom(*file_);
-  const std::string images = rawlogImagesDir(path);
-  if (fs::is_directory(images, ec)) mrpt::img::CImage::setImagesPathBase(images);
+  mrpt::img::CImage::setImagesPathBase(rawlogImagesDir(path));
 }
 
 RawlogReader::~RawlogReader() = default;
@@ -147,6 +147,22 @@ std::vector<mrpt::obs::CObservation::Ptr> readRawlog(const std::string& path) {
   std::vector<mrpt::obs::CObservation::Ptr> out;
   while (auto obs = reader.next()) out.push_back(std::move(obs));
   return out;
+}
+
+ExternalImages checkExternalImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs,
+                                   const std::string& sensor_label) {
+  ExternalImages r;
+  for (const auto& o : obs) {
+    if (o->sensorLabel != sensor_label) continue;
+    const auto* io = dynamic_cast<const mrpt::obs::CObservationImage*>(o.get());
+    if (!io || !io->image.isExternallyStored()) continue;
+    ++r.external;
+    const std::string file = io->image.getExternalStorageFileAbsolutePath();
+    std::error_code ec;
+    if (fs::is_regular_file(file, ec)) continue;
+    if (r.missing++ == 0) r.first_missing = file;
+  }
+  return r;
 }
 
 }  // namespace st

@@ -67,8 +67,9 @@ class RawlogWriter {
 };
 
 /// Streams the observations of an observation-only rawlog (plain or gz), counting objects.
-/// Registers our classes itself. If `<stem>_Images` exists it becomes MRPT's images path
-/// base (a process-wide setting) so external images load.
+/// Registers our classes itself. `<stem>_Images` becomes MRPT's images path base (a
+/// process-wide setting) so external images load, and so a missing folder is found missing
+/// rather than its files looked up in the folder of an earlier rawlog.
 class RawlogReader {
  public:
   /// Throws InputError naming the file when it is missing or cannot be opened.
@@ -97,5 +98,16 @@ class RawlogReader {
 
 /// Reads the whole rawlog (see RawlogReader for the errors).
 std::vector<mrpt::obs::CObservation::Ptr> readRawlog(const std::string& path);
+
+/// The external images (CObservationImage) of observations labelled `sensor_label`, looked up
+/// where MRPT will load them (CImage::getImagesPathBase(), which RawlogReader sets to the
+/// rawlog's `<stem>_Images`).
+struct ExternalImages {
+  std::size_t external = 0;   ///< images stored outside the rawlog
+  std::size_t missing = 0;    ///< of those, files not found
+  std::string first_missing;  ///< path of the first missing file
+};
+ExternalImages checkExternalImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs,
+                                   const std::string& sensor_label);
 
 }  // namespace st

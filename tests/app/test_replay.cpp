@@ -2,11 +2,18 @@
 // `startracker simulate rawlogs/<name>.ini`), and its handling of bad input.
 #include <gtest/gtest.h>
 
+#include <mrpt/system/datetime.h>
+
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <regex>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "sensors/mrpt/rawlog_io.hpp"
 #include "tests/support/test_paths.hpp"
@@ -130,6 +137,184 @@ TEST(ReplayBadInput, MissingTruncatedNonRawlogBadIniBadDatabase) {
   std::ofstream(dir + "/old.db") << "STDB but not a database of this version";
   std::ofstream(dir + "/db.ini") << "[database]\npath = old.db\n";
   expectCleanFailure(sample("hold") + " --config " + dir + "/db.ini", "old.db");
+}
+
+// ---- a rawlog without GYRO (issue 21 item 3) -------------------------------------------
+
+/// A copy of sample `name` as `dir/stem.rawlog` with the observations `keep(obs, t)` accepts
+/// (t: seconds from the first observation); its images are the sample's, through a link.
+std::string filteredCopy(const std::string& name, const std::string& dir, const std::string& stem,
+                         const std::function<bool(const mrpt::obs::CObservation&, double)>& keep) {
+  const auto in = readRawlog(sample(name));
+  const std::string path = dir + "/" + stem + ".rawlog";
+  {
+    RawlogWriter w(path);
+    for (const auto& o : in) {
+      if (keep(*o, mrpt::system::timeDifference(in.front()->timestamp, o->timestamp)))
+        w.write(*o);
+    }
+  }
+  fs::create_directory_symlink(fs::absolute(rawlogImagesDir(sample(name))),
+                               rawlogImagesDir(path));
+  return path;
+}
+
+std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+/// The CSV's rows as fields by column name.
+std::vector<std::map<std::string, std::string>> csvRows(const std::string& path) {
+  std::ifstream f(path);
+  auto split = [](const std::string& l) {
+    std::vector<std::string> v;
+    std::stringstream ss(l);
+    for (std::string x; std::getline(ss, x, ',');) v.push_back(x);
+    return v;
+  };
+  std::string line;
+  std::getline(f, line);
+  const std::vector<std::string> head = split(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(f, line)) {
+    const std::vector<std::string> v = split(line);
+    std::map<std::string, std::string> r;
+    for (std::size_t i = 0; i < head.size() && i < v.size(); ++i) r[head[i]] = v[i];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// The 2 deg/s slew without its GYRO observations: a filter fed fixes alone would lag the
+// motion (issue 21: 1.7 deg off on the tour's slew). Replay says so once and reports the raw
+// lost-in-space fixes, whose error bounds are those of SolvesTracksAndWritesOutputs (each
+// fix is a full solution from >= 10 stars; no filter to reduce them).
+TEST(ReplayWithoutGyro, CameraOnlyRawlogGivesRawLostInSpaceFixesAndOneWarning) {
+  const std::string dir = test::makeTempDir("replay_nogyro");
+  const std::string rawlog = filteredCopy("slew_2dps", dir, "camera_only",
+                                          [](const auto& o, double) {
+                                            return o.sensorLabel != "GYRO";
+                                          });
+  const std::string csv = dir + "/traj.csv";
+  std::string out;
+  const int rc = test::runCommand(
+      test::startrackerExe() + " replay -q " + rawlog + " --csv " + csv + " --plots " + dir +
+          "/plots",
+      &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_EQ(occurrences(out, "no GYRO observations:"), 1u) << out;
+  EXPECT_EQ(grab(out, R"(frames: (\d+))"), 12) << out;
+  EXPECT_GE(grab(out, R"(solved ([0-9.]+) %)"), 90.0) << out;
+  EXPECT_EQ(grab(out, R"(lost-in-space (\d+))"), 12) << out;
+  EXPECT_EQ(grab(out, R"(re-initialisations (\d+))"), 0) << out;
+  EXPECT_NE(out.find("raw fixes without a filter"), std::string::npos) << out;
+  EXPECT_NE(out.find("filter: none"), std::string::npos) << out;
+  EXPECT_EQ(out.find("filter: mean NEES"), std::string::npos) << out;
+  const double cross = grab(out, R"(cross-boresight\s+RMS\s+([0-9.]+))");
+  const double roll = grab(out, R"(roll\s+RMS\s+([0-9.]+))");
+  EXPECT_GE(cross, 0) << out;
+  EXPECT_LT(cross, 14.0) << out;
+  EXPECT_GE(roll, 0) << out;
+  EXPECT_LT(roll, 110.0) << out;
+  EXPECT_EQ(grab(out, R"(, (\d+) misidentified)"), 0) << out;
+
+  // CSV: the filter's columns absent (nan), the raw fix present in the fix_* columns.
+  const auto rows = csvRows(csv);
+  ASSERT_EQ(rows.size(), 12u);
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.at("initialized"), "0");
+    EXPECT_EQ(r.at("qw"), "nan");
+    EXPECT_EQ(r.at("nees"), "nan");
+    EXPECT_EQ(r.at("err_arcsec"), "nan");
+    if (r.at("fix") != "1") continue;
+    EXPECT_EQ(r.at("update"), "unfiltered");
+    EXPECT_NE(r.at("fix_qw"), "nan");
+    EXPECT_LT(std::abs(std::stod(r.at("fix_err_cross_arcsec"))), 3 * 14.0);
+  }
+  EXPECT_TRUE(fs::exists(dir + "/plots/error.png") || out.find("not drawn") != std::string::npos);
+}
+
+// Decided policy for a gyro that stops mid-run: the filter stays, the loop's gap logic coasts
+// on the mean of the last rates with a growing covariance and says so once; the fixes keep
+// it on the (constant-rate) slew.
+TEST(ReplayWithoutGyro, GyroStoppingMidRunCoastsWithOneWarning) {
+  const std::string dir = test::makeTempDir("replay_gyro_stops");
+  const std::string rawlog = filteredCopy("slew_2dps", dir, "gyro_stops",
+                                          [](const auto& o, double t) {
+                                            return o.sensorLabel != "GYRO" || t < 0.55;
+                                          });
+  std::string out;
+  const int rc = test::runCommand(test::startrackerExe() + " replay -q " + rawlog, &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_EQ(out.find("no GYRO observations"), std::string::npos) << out;
+  EXPECT_EQ(occurrences(out, "gyro gap: no gyro sample since"), 1u) << out;
+  EXPECT_GE(grab(out, R"(solved ([0-9.]+) %)"), 90.0) << out;
+  EXPECT_LT(grab(out, R"(cross-boresight\s+RMS\s+([0-9.]+))"), 14.0) << out;
+}
+
+// ---- missing external images (issue 21 item 7a) -----------------------------------------
+
+TEST(ReplayImages, MissingImagesFolderIsOneMessageNamingWhereTheyWereExpected) {
+  const std::string dir = test::makeTempDir("replay_noimages");
+  fs::copy_file(sample("hold"), dir + "/hold.rawlog");
+  std::string out;
+  const int rc = test::runCommand(test::startrackerExe() + " replay -q " + dir + "/hold.rawlog",
+                                  &out);
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(out.find(fs::absolute(dir + "/hold_Images").string()), std::string::npos) << out;
+  EXPECT_NE(out.find("none of its 12 CAMERA images found"), std::string::npos) << out;
+  EXPECT_EQ(out.find("MRPT exception"), std::string::npos) << out;
+  EXPECT_EQ(out.find("frames:"), std::string::npos) << out;
+}
+
+TEST(ReplayImages, SomeImagesMissingWarnsOnceWithCountsAndGoesOn) {
+  const std::string dir = test::makeTempDir("replay_someimages");
+  fs::copy_file(sample("hold"), dir + "/hold.rawlog");
+  fs::create_directory(dir + "/hold_Images");
+  for (int k = 0; k < 12; k += 2) {  // frames 0, 2, ..., 10 only
+    char name[32];
+    std::snprintf(name, sizeof name, "/CAMERA_%06d.png", k);
+    fs::copy_file(rawlogImagesDir(sample("hold")) + name, dir + "/hold_Images" + name);
+  }
+  std::string out;
+  const int rc = test::runCommand(test::startrackerExe() + " replay -q " + dir + "/hold.rawlog",
+                                  &out);
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_EQ(occurrences(out, "6 of 12 CAMERA images missing"), 1u) << out;
+  EXPECT_EQ(out.find("MRPT exception"), std::string::npos) << out;
+  EXPECT_EQ(grab(out, R"(frames: (\d+))"), 12) << out;
+  EXPECT_NEAR(grab(out, R"(solved ([0-9.]+) %)"), 50.0, 1e-9) << out;
+}
+
+// ---- output paths checked before the work (issue 21 item 7b) ----------------------------
+
+TEST(ReplayOutputs, UnwritableOutputPathFailsAtOnceNamingItsFlag) {
+  const std::string dir = test::makeTempDir("replay_outputs");
+  std::ofstream(dir + "/afile") << "a file, not a folder\n";
+  const std::string bad = dir + "/afile/sub";
+  for (const std::string& flag : {std::string("--csv"), std::string("--plots"),
+                                  std::string("-o")}) {
+    std::string out;
+    const std::string arg = flag == "-o" ? bad + "/out.rawlog" : bad + "/x" + flag.substr(2);
+    const int rc = test::runCommand(
+        test::startrackerExe() + " replay -q " + sample("hold") + " " + flag + " " + arg, &out);
+    EXPECT_EQ(rc, 2) << flag << ": " << out;
+    EXPECT_NE(out.find(flag), std::string::npos) << out;
+    EXPECT_NE(out.find(arg), std::string::npos) << out;
+    EXPECT_EQ(out.find("frames:"), std::string::npos) << flag << ": the run was done first\n"
+                                                      << out;
+  }
+  // Missing folders are created (the one policy of app/output_file.hpp).
+  std::string out;
+  const std::string csv = dir + "/new/deeper/x.csv";
+  EXPECT_EQ(test::runCommand(test::startrackerExe() + " replay -q " + sample("hold") +
+                                 " --csv " + csv,
+                             &out),
+            0)
+      << out;
+  EXPECT_EQ(lines(csv), 13u);
 }
 
 }  // namespace
