@@ -124,17 +124,26 @@ void SensorRunner::go() {
   cv_.notify_all();
 }
 
-void SensorRunner::stop() {
+void SensorRunner::requestStop() {
   {
     std::lock_guard<std::mutex> lock(m_);
     stop_ = true;
   }
   cv_.notify_all();
+}
+
+void SensorRunner::stop() {
+  requestStop();
   if (thread_.joinable()) thread_.join();
   if (state_ == State::kRunning || state_ == State::kStarting) state_ = State::kStopped;
 }
 
 void SensorRunner::run() {
+  loop();
+  exited_ = true;
+}
+
+void SensorRunner::loop() {
   const std::string who = "sensor '" + spec_.section + "' (" + spec_.driver + ")";
   try {
     spec_.sensor->initialize();

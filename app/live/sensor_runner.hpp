@@ -65,6 +65,10 @@ class SensorRunner {
   /// Blocks until initialize() has returned or thrown.
   void waitInitialized();
   void go();
+  /// Asks the thread to end after its current doProcess() (returns at once).
+  void requestStop();
+  /// True once the thread has left its loop (or was never started).
+  bool exited() const { return exited_ || !thread_.joinable(); }
   void stop();  // asks the thread to end and joins it
 
   State state() const { return state_; }
@@ -75,12 +79,13 @@ class SensorRunner {
 
  private:
   void run();
+  void loop();
 
   SensorSpec spec_;
   ObservationQueue& queue_;
   std::thread thread_;
   std::atomic<State> state_{State::kStarting};
-  std::atomic<bool> stop_{false}, go_{false}, initialized_{false};
+  std::atomic<bool> stop_{false}, go_{false}, initialized_{false}, exited_{false};
   std::atomic<std::size_t> count_{0};
   std::mutex m_;
   std::condition_variable cv_;
