@@ -81,6 +81,12 @@ class LiveSession {
     }
   }
 
+  /// True when every sensor failed to start on its configuration (exit 2, not 1).
+  bool allFailedOnInput() const {
+    return std::all_of(runners_.begin(), runners_.end(),
+                       [](const auto& r) { return r->failedOnInput(); });
+  }
+
   /// Starts the sensors and the navigator; returns how many sensors started.
   int start() {
     std::printf("live: %zu sensor(s) from %s, recording to %s\n", runners_.size(),
@@ -261,7 +267,8 @@ int runLive(const LiveArgs& args) {
   session.stop();
   session.printSummary(why_stop);
   std::fflush(stdout);
-  return running > 0 ? kExitOk : kExitFailure;
+  if (running > 0) return kExitOk;
+  return session.allFailedOnInput() ? kExitUsage : kExitFailure;
 }
 
 }  // namespace

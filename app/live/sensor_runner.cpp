@@ -17,6 +17,8 @@ namespace {
 // call-stack lines: keep the line of the original message (the one naming the section or
 // key, else the first line that is not stack decoration).
 std::string usefulMessage(const std::exception& e, const std::string& section) {
+  // Ours names the file, section, key and value already (e.g. a scenario's bad key).
+  if (dynamic_cast<const InputError*>(&e)) return e.what();
   const std::string all = mrpt::exception_to_str(e);
   std::istringstream in(all);
   std::string line, message, first;
@@ -25,7 +27,7 @@ std::string usefulMessage(const std::exception& e, const std::string& section) {
     if (m != std::string::npos) line = line.substr(line.find_first_not_of(' ', m + 8));
     if (line.find("'" + section + "'") != std::string::npos) return line;
     if (m != std::string::npos && message.empty()) message = line;
-    if (first.empty() && !line.empty() && line.find("=====") == std::string::npos) first = line;
+    if (first.empty() && !line.empty() && line.find("====") == std::string::npos) first = line;
   }
   if (!message.empty()) return message;
   return first.empty() ? all : first;
@@ -149,6 +151,7 @@ void SensorRunner::loop() {
     spec_.sensor->initialize();
   } catch (const std::exception& e) {
     state_ = State::kFailed;
+    bad_input_ = dynamic_cast<const InputError*>(&e) != nullptr;
     queue_.report(who + " failed to start: " + usefulMessage(e, spec_.section));
   }
   {

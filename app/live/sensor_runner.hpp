@@ -72,6 +72,8 @@ class SensorRunner {
   void stop();  // asks the thread to end and joins it
 
   State state() const { return state_; }
+  /// initialize() refused its configuration (an InputError: a bad key, a missing file).
+  bool failedOnInput() const { return bad_input_; }
   const std::string& section() const { return spec_.section; }
   const std::string& driver() const { return spec_.driver; }
   mrpt::hwdrivers::CGenericSensor& sensor() { return *spec_.sensor; }
@@ -86,6 +88,7 @@ class SensorRunner {
   std::thread thread_;
   std::atomic<State> state_{State::kStarting};
   std::atomic<bool> stop_{false}, go_{false}, initialized_{false}, exited_{false};
+  std::atomic<bool> bad_input_{false};
   std::atomic<std::size_t> count_{0};
   std::mutex m_;
   std::condition_variable cv_;
