@@ -1,8 +1,9 @@
 // `startracker live CONFIG.ini`: the live sensor app, rawlog-grabber style. Every .ini
 // section with `driver = <CGenericSensor class>` is a sensor run in its own thread
 // (app/live/sensor_runner.hpp); the main loop takes their observations, records EVERY one to
-// the rawlog as it arrives (in timestamp order within each batch), and runs the filter in
-// real time whose prediction goes back to each CStarTrackerSensor (app/live/live_filter.hpp).
+// the rawlog in timestamp order (app/live/live_recorder.hpp), and runs the filter in real
+// time whose prediction goes back to the CStarTrackerSensor on replay's schedule
+// (app/live/live_navigator.hpp).
 // SIGINT / SIGTERM end the run cleanly: sensors stopped, what they delivered written, rawlog
 // closed, summary printed.
 //
