@@ -1,21 +1,28 @@
 // `startracker live CONFIG.ini`: the live sensor app, rawlog-grabber style. Every .ini
 // section with `driver = <CGenericSensor class>` is a sensor run in its own thread
 // (app/live/sensor_runner.hpp); the main loop takes their observations, records EVERY one to
-// the rawlog as it arrives (in timestamp order within each batch), and runs the filter in
-// real time whose prediction goes back to each CStarTrackerSensor (app/live/live_filter.hpp).
+// the rawlog in timestamp order (app/live/live_recorder.hpp), and runs the filter in real
+// time whose prediction goes back to the CStarTrackerSensor on replay's schedule
+// (app/live/live_navigator.hpp).
 // SIGINT / SIGTERM end the run cleanly: sensors stopped, what they delivered written, rawlog
 // closed, summary printed.
 //
 // Optional sections without a driver:
-//   [global]     rawlog_file = out.rawlog (default live.rawlog; -o wins)
+//   [global]     rawlog_file = out.rawlog (default live.rawlog; -o wins). Relative to the
+//                working directory, as -o: an output never lands in the .ini's folder (the
+//                repository's rawlogs/ for the samples); the path is printed.
 //   [filter]     as in tracker.ini (navigation/tracker_ini.hpp): gyro datasheet numbers,
 //                gate, update = attitude | stars
 //   [navigator]  as in tracker.ini, plus enabled = true; reorder_window_s (default 0.5 here)
 //                is the latency a star-tracker fix may have and still enter the filter
 // All three are strict schemas (unknown keys exit 2), printed by `startracker config`.
 // The filter is the one fusion loop of `replay` (app/live/live_navigator.hpp).
-// Relative paths inside the .ini are relative to the .ini's folder (the sensors are
-// configured from there).
+// Relative input paths inside the .ini are relative to the .ini's folder (the sensors are
+// configured from there). Every output path is checked before the sensors start.
+// Beside the rawlog, `<stem>_tracker.ini` (app/live/replay_config.hpp) holds the tracker and
+// filter of the run: `startracker replay RAWLOG --config <stem>_tracker.ini` makes the same
+// fixes from the recorded frames, since the tracker asks the loop on replay's schedule
+// (app/live/live_navigator.hpp).
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/obs/CObservationImage.h>
 
@@ -31,6 +38,8 @@
 #include "app/live/live_display.hpp"
 #include "app/live/live_navigator.hpp"
 #include "app/live/live_recorder.hpp"
+#include "app/live/replay_config.hpp"
+#include "app/output_file.hpp"
 #include "navigation/run_summary.hpp"
 #include "navigation/tracker_config.hpp"
 #include "config/ini_reader.hpp"
@@ -50,7 +59,7 @@ volatile std::sig_atomic_t g_signal = 0;
 extern "C" void onStopSignal(int sig) { g_signal = sig; }
 
 struct LiveArgs {
-  std::string config, out, csv;
+  std::string config, out, csv;  // out and csv: absolute once checked
   double duration_s = 0;
   bool gui = false;
 };
@@ -64,12 +73,19 @@ class LiveSession {
     bool nav_enabled = true;
     nav_opts_ = liveNavigatorOptions(cfg, args.config, &nav_enabled);
     nav_enabled_ = nav_enabled;
+    live_keys_ = readLiveIni(IniReader{cfg, args.config});
     std::vector<SensorSpec> specs = createSensors(cfg, args.config);  // InputError -> exit 2
     for (auto& spec : specs) {
       spec.sensor->setPathForExternalImages(writer_.imagesDir());
       if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) trackers_.push_back(t);
       runners_.push_back(std::make_unique<SensorRunner>(std::move(spec), queue_));
     }
+  }
+
+  /// True when every sensor failed to start on its configuration (exit 2, not 1).
+  bool allFailedOnInput() const {
+    return std::all_of(runners_.begin(), runners_.end(),
+                       [](const auto& r) { return r->failedOnInput(); });
   }
 
   /// Starts the sensors and the navigator; returns how many sensors started.
@@ -88,6 +104,8 @@ class LiveSession {
       recorder_.setNavigator(nav_.get());
       LiveNavigator* nav = nav_.get();
       t->setInputsProvider([nav](mrpt::Clock::time_point when) { return nav->frameInputs(when); });
+      replay_config_ = replayConfigPath(out_path_);
+      writeReplayConfig(replay_config_, *t, live_keys_);
     }
     int running = 0;
     for (auto& r : runners_) running += r->state() != SensorRunner::State::kFailed;
@@ -124,9 +142,12 @@ class LiveSession {
   }
 
   /// Stops the sensors first, then writes what they had already delivered: nothing received
-  /// is lost, and the rawlog is closed properly.
+  /// is lost, and the rawlog is closed properly. The star trackers stop first, while the other
+  /// sensors run and their observations keep reaching the navigator: a tracker in the middle
+  /// of a frame may be waiting for them (replay's schedule, live_navigator.hpp).
   void stop() {
-    for (auto& r : runners_) r->stop();
+    stopRunners(true);
+    stopRunners(false);
     recorder_.record(queue_.takeAll(0.0));
     recorder_.finish();
     printReports();
@@ -152,6 +173,13 @@ class LiveSession {
     std::printf("filter: %d fixes (%d accepted, %d rejected, %d ignored while waiting for "
                 "lost-in-space), %d re-initialisations, %d warnings\n",
                 s.fixes, s.accepted, s.rejected, s.ignored, s.reinits, s.warnings);
+    // Frames that asked the loop before everything earlier was in (a sensor later than the
+    // reorder window): replay may make other fixes from those.
+    std::printf("schedule: %d frame(s) off replay's schedule\n", s.off_schedule);
+    if (!replay_config_.empty()) {
+      std::printf("replay: startracker replay %s --config %s\n", out_path_.c_str(),
+                  replay_config_.c_str());
+    }
     for (const auto& w : nav_->warnings()) std::fprintf(stderr, "live: warning: %s\n", w.c_str());
     const std::vector<NavStep> steps = nav_->steps();
     printNavigationSummary(steps, stdout);
@@ -162,6 +190,19 @@ class LiveSession {
   }
 
  private:
+  void stopRunners(bool trackers) {
+    std::vector<SensorRunner*> group;
+    for (auto& r : runners_) {
+      if ((dynamic_cast<CStarTrackerSensor*>(&r->sensor()) != nullptr) == trackers)
+        group.push_back(r.get());
+    }
+    for (auto* r : group) r->requestStop();
+    const auto exited = [&] {
+      return std::all_of(group.begin(), group.end(), [](auto* r) { return r->exited(); });
+    };
+    while (!exited()) recorder_.record(queue_.takeAll(0.01));
+    for (auto* r : group) r->stop();
+  }
   void printReports() {
     for (const auto& m : queue_.takeReports()) std::fprintf(stderr, "live: %s\n", m.c_str());
   }
@@ -178,6 +219,8 @@ class LiveSession {
   const LiveArgs& args_;
   fs::path out_path_;
   NavigatorOptions nav_opts_;
+  LiveIniKeys live_keys_;
+  fs::path replay_config_;
   bool nav_enabled_ = true;
   RawlogWriter writer_;
   ObservationQueue queue_;
@@ -198,13 +241,22 @@ int runLive(const LiveArgs& args) {
   const fs::path config = fs::absolute(args.config);
   mrpt::config::CConfigFile cfg(config.string());
 
-  std::string out = args.out;
-  if (out.empty()) out = readLiveIni(IniReader{cfg, args.config}).global.rawlog_file;
-  // -o is relative to where the user runs; rawlog_file to the .ini, like every other path.
-  const fs::path out_path = args.out.empty() ? config.parent_path() / out : fs::absolute(out);
+  // Outputs are relative to where the user runs (rawlog_file as -o), checked before any
+  // sensor starts; inputs inside the .ini are relative to its folder.
+  LiveArgs checked = args;
+  const std::string out =
+      args.out.empty() ? readLiveIni(IniReader{cfg, args.config}).global.rawlog_file : args.out;
+  const fs::path out_path = fs::absolute(out).lexically_normal();
+  prepareOutputFile(out_path.string(), args.out.empty() ? args.config + ": [global] rawlog_file"
+                                                        : std::string("-o"));
+  prepareOutputFile(replayConfigPath(out_path).string(), "-o");
+  if (!args.csv.empty()) {
+    checked.csv = fs::absolute(args.csv).lexically_normal().string();
+    prepareOutputFile(checked.csv, "--csv");
+  }
   fs::current_path(config.parent_path());  // the .ini's relative paths
 
-  LiveSession session(args, cfg, out_path);
+  LiveSession session(checked, cfg, out_path);
   g_signal = 0;
   struct sigaction sa {};
   sa.sa_handler = onStopSignal;
@@ -216,7 +268,8 @@ int runLive(const LiveArgs& args) {
   session.stop();
   session.printSummary(why_stop);
   std::fflush(stdout);
-  return running > 0 ? kExitOk : kExitFailure;
+  if (running > 0) return kExitOk;
+  return session.allFailedOnInput() ? kExitUsage : kExitFailure;
 }
 
 }  // namespace
@@ -230,7 +283,9 @@ void addLiveCommand(CLI::App& root, CommandRun& run) {
   auto args = std::make_shared<LiveArgs>();
   cmd->add_option("config", args->config, "Sensors .ini (sections with driver = <class>)")
       ->required();
-  cmd->add_option("-o,--output", args->out, "Output rawlog (default [global] rawlog_file)");
+  cmd->add_option("-o,--output", args->out,
+                  "Output rawlog (default [global] rawlog_file, in the current directory); "
+                  "<stem>_tracker.ini beside it replays it to the same fixes");
   cmd->add_option("--duration", args->duration_s, "Stop after this many seconds (0 = until "
                                                   "Ctrl-C / SIGTERM)")
       ->check(CLI::NonNegativeNumber);

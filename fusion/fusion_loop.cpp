@@ -146,6 +146,16 @@ void FusionLoop::flush() {
   }
 }
 
+void FusionLoop::processBefore(double t) {
+  const std::pair<double, int> frame{t, kFrame};
+  while (!queue_.empty() && std::make_pair(queue_.front().t, queue_.front().kind) < frame) {
+    std::pop_heap(queue_.begin(), queue_.end());
+    Event next = std::move(queue_.back());
+    queue_.pop_back();
+    process(next);
+  }
+}
+
 void FusionLoop::process(Event& e) {
   last_processed_ = {e.t, e.kind};
   switch (e.kind) {

@@ -132,6 +132,10 @@ class FusionLoop {
   void pushMarker(double t, uint64_t tag);
   /// Processes everything queued.
   void flush();
+  /// Processes the queued events a frame at t comes after (gyro samples up to t included),
+  /// whatever the reorder window: a live tracker that knows they are all in then gets the
+  /// inputs replay computes for the frame (frameInputs after exactly those events).
+  void processBefore(double t);
 
   /// The tracker's inputs for a frame at t: the filter propagated through the gyro samples
   /// already known (also those still held for ordering); the filter itself is unchanged.

@@ -140,6 +140,10 @@ FrameInputs Navigator::frameInputs(mrpt::Clock::time_point t) const {
   return loop_.frameInputs(secondsFromStart(t));
 }
 
+void Navigator::processBefore(mrpt::Clock::time_point t) {
+  if (t0_) loop_.processBefore(secondsFromStart(t));
+}
+
 FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& in) {
   frame_obs_.reset();
   const auto it = held_.find(tag);

@@ -76,6 +76,13 @@ class Navigator {
   void flush();
   /// The star tracker's inputs for a frame at `t` (a live sensor asks before each frame).
   FrameInputs frameInputs(mrpt::Clock::time_point t) const;
+  /// FusionLoop::processBefore at `t` (live: once everything before the frame is pushed).
+  void processBefore(mrpt::Clock::time_point t);
+  /// The time origin, before the first push (default: the first observation pushed). Live
+  /// sets replay's, the run's earliest stamp, so that both compute the same times.
+  void setTimeOrigin(mrpt::Clock::time_point t0) {
+    if (!t0_) t0_ = t0;
+  }
 
   /// Finished steps so far (kept unless keep_steps is false).
   const std::vector<NavStep>& steps() const { return steps_; }

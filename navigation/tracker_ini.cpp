@@ -73,7 +73,7 @@ const SectionSchema<LiveGlobalIniKeys>& liveGlobalIniSchema() {
   static const auto s =
       SectionSchema<K>()
           .add("rawlog_file", &K::rawlog_file,
-               "output rawlog, relative to this file's folder (-o wins)")
+               "output rawlog, relative to the working directory as -o (-o wins)")
           .add("rawlog_prefix", &K::rawlog_prefix, grabber)
           .add("time_between_launches", &K::time_between_launches, grabber)
           .add("use_sensoryframes", &K::use_sensoryframes, grabber)

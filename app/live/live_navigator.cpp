@@ -1,5 +1,10 @@
 #include "app/live/live_navigator.hpp"
 
+#include <mrpt/obs/CObservationIMU.h>
+
+#include <algorithm>
+#include <chrono>
+
 namespace st::app {
 
 LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
@@ -14,19 +19,86 @@ LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
   });
 }
 
-void LiveNavigator::push(const mrpt::obs::CObservation::Ptr& obs) {
-  std::lock_guard<std::mutex> lock(m_);
-  nav_.push(obs);
+void LiveNavigator::push(const std::vector<mrpt::obs::CObservation::Ptr>& batch) {
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    const NavigatorOptions& o = nav_.options();
+    for (const auto& obs : batch) {
+      if (started_) {
+        nav_.push(obs);
+      } else {
+        before_start_.push_back(obs);
+      }
+      const auto newer = [&](std::optional<mrpt::Clock::time_point>& newest) {
+        if (!newest || obs->timestamp > *newest) newest = obs->timestamp;
+      };
+      if (obs->sensorLabel == o.gyro_label && dynamic_cast<mrpt::obs::CObservationIMU*>(obs.get())) {
+        newer(newest_gyro_);
+        gyro_stalled_ = false;
+      } else if (obs->sensorLabel == o.star_tracker_label &&
+                 dynamic_cast<CObservationStarTracker*>(obs.get())) {
+        newer(newest_fix_);
+      }
+    }
+  }
+  arrived_.notify_all();
+}
+
+void LiveNavigator::start(std::optional<mrpt::Clock::time_point> first_frame) {
+  started_ = true;
+  auto held = std::move(before_start_);
+  std::stable_sort(held.begin(), held.end(),
+                   [](const auto& a, const auto& b) { return a->timestamp < b->timestamp; });
+  // Replay's origin: the earliest observation it reads under one of the navigator's labels.
+  const NavigatorOptions& o = nav_.options();
+  std::optional<mrpt::Clock::time_point> origin = first_frame;
+  for (const auto& obs : held) {
+    const std::string& l = obs->sensorLabel;
+    const bool known = l == o.gyro_label || l == o.truth_label || l == o.camera_label ||
+                       l == o.star_tracker_label;
+    if (known && (!origin || obs->timestamp < *origin)) origin = obs->timestamp;
+  }
+  if (origin) nav_.setTimeOrigin(*origin);
+  for (const auto& obs : held) nav_.push(obs);
 }
 
 void LiveNavigator::flush() {
   std::lock_guard<std::mutex> lock(m_);
+  if (!started_) start(std::nullopt);
   nav_.flush();
 }
 
-FrameInputs LiveNavigator::frameInputs(mrpt::Clock::time_point t) const {
-  std::lock_guard<std::mutex> lock(m_);
+bool LiveNavigator::earlierEventsIn(mrpt::Clock::time_point t) const {
+  // The gyro delivers in time order: one sample at or after t means all up to t are in. No
+  // gyro seen (none configured, or not started) or one that stalled: nothing to wait for.
+  const bool gyro_in = !newest_gyro_ || gyro_stalled_ || *newest_gyro_ >= t;
+  // The tracker makes one fix per frame it asks for, in order.
+  const bool fix_in = !last_asked_ || (newest_fix_ && *newest_fix_ >= *last_asked_);
+  return gyro_in && fix_in;
+}
+
+FrameInputs LiveNavigator::frameInputs(mrpt::Clock::time_point t) {
+  std::unique_lock<std::mutex> lock(m_);
+  // The latency a fix may have in the loop anyway: waiting longer would only delay a frame
+  // whose fix could no longer be used.
+  const auto wait = std::chrono::duration<double>(nav_.options().fusion.reorder_window_s);
+  arrived_.wait_for(lock, wait, [&] { return stopping_ || earlierEventsIn(t); });
+  if (!earlierEventsIn(t)) {
+    ++stats_.off_schedule;
+    if (!newest_gyro_ || *newest_gyro_ < t) gyro_stalled_ = true;
+  }
+  last_asked_ = t;
+  if (!started_) start(t);
+  nav_.processBefore(t);
   return nav_.frameInputs(t);
+}
+
+void LiveNavigator::stopWaiting() {
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    stopping_ = true;
+  }
+  arrived_.notify_all();
 }
 
 bool LiveNavigator::current(Quat& q_ib, Mat3& P_att) const {

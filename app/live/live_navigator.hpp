@@ -2,17 +2,29 @@
 /// The live app's half of the one fusion loop: the same Navigator that `replay` runs
 /// (navigation/navigator.hpp), fed with the live sensors' GYRO samples, the star tracker's
 /// STAR_TRACKER fixes (the tracker runs in its sensor's thread) and the simulated camera's
-/// GROUND_TRUTH, with the reorder window set to the latency a fix may have. The tracker asks
-/// frameInputs() from its own thread before each frame: the loop's prediction (propagated
-/// through the gyro samples already received), or lost-in-space while a re-initialisation is
-/// pending. Every call is serialised by one mutex.
+/// GROUND_TRUTH, with the reorder window set to the latency a fix may have.
+///
+/// Replay's schedule: the tracker asks frameInputs() from its own thread before each frame.
+/// Replay hands a frame at t the loop's state after every event before it (the gyro samples
+/// up to t, the earlier frames' fixes and truths); so here the call waits until those are in
+/// (the fix of the tracker's previous frame, and a gyro sample at or after t), processes
+/// them (Navigator::processBefore) and only then asks the loop. A live rawlog therefore
+/// replays to the same fixes (tests/app/test_live.cpp). The wait is bounded by the reorder
+/// window: a gyro that stalls longer is not waited for again until it delivers, and a frame
+/// asked after a timed-out wait is counted as off replay's schedule (offSchedule()).
+/// Replay counts time from the rawlog's first observation: the observations are held here
+/// until the tracker's first frame, then the loop starts at the earliest stamp seen (the
+/// first frame's, or an earlier gyro sample's), as it will in the recording.
+/// Every call is serialised by one mutex.
 #pragma once
 #include <mrpt/core/Clock.h>
 #include <mrpt/obs/CObservation.h>
 
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 #include "navigation/navigator.hpp"
 
@@ -23,14 +35,20 @@ class LiveNavigator {
   /// The database and camera of the star tracker sensor; they must outlive this object.
   LiveNavigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options);
 
-  void push(const mrpt::obs::CObservation::Ptr& obs);
+  /// One batch as the sensors delivered it, in time order (a frame's fix and its truth come
+  /// together: a waiting tracker never sees one without the other).
+  void push(const std::vector<mrpt::obs::CObservation::Ptr>& batch);
   void flush();
-  FrameInputs frameInputs(mrpt::Clock::time_point t) const;
+  /// The tracker's inputs for its frame at t, on replay's schedule (see the file comment).
+  FrameInputs frameInputs(mrpt::Clock::time_point t);
+  /// Ends every wait at once (the run is stopping and nothing more will come).
+  void stopWaiting();
   /// The latest estimate (false before the first fix).
   bool current(Quat& q_ib, Mat3& P_att) const;
 
   struct Stats {
     int fixes = 0, accepted = 0, rejected = 0, ignored = 0, reinits = 0, warnings = 0;
+    int off_schedule = 0;  ///< frames asked before everything earlier was in (timed out)
   };
   Stats stats() const;
   /// Every step so far (for the summary after the run).
@@ -38,9 +56,17 @@ class LiveNavigator {
   std::vector<std::string> warnings() const;
 
  private:
+  bool earlierEventsIn(mrpt::Clock::time_point t) const;
+  void start(std::optional<mrpt::Clock::time_point> first_frame);
+
   mutable std::mutex m_;
+  std::condition_variable arrived_;
   Navigator nav_;
   Stats stats_;
+  std::optional<mrpt::Clock::time_point> newest_gyro_, newest_fix_, last_asked_;
+  bool gyro_stalled_ = false, stopping_ = false;
+  bool started_ = false;
+  std::vector<mrpt::obs::CObservation::Ptr> before_start_;
 };
 
 }  // namespace st::app

@@ -10,8 +10,8 @@ namespace st::app {
 void LiveRecorder::record(std::vector<mrpt::obs::CObservation::Ptr> batch) {
   std::stable_sort(batch.begin(), batch.end(),
                    [](const auto& a, const auto& b) { return a->timestamp < b->timestamp; });
+  if (nav_) nav_->push(batch);
   for (auto& o : batch) {
-    if (nav_) nav_->push(o);
     if (!newest_ || o->timestamp > *newest_) newest_ = o->timestamp;
     held_.emplace(o->timestamp, o);
   }

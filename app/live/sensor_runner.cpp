@@ -17,6 +17,8 @@ namespace {
 // call-stack lines: keep the line of the original message (the one naming the section or
 // key, else the first line that is not stack decoration).
 std::string usefulMessage(const std::exception& e, const std::string& section) {
+  // Ours names the file, section, key and value already (e.g. a scenario's bad key).
+  if (dynamic_cast<const InputError*>(&e)) return e.what();
   const std::string all = mrpt::exception_to_str(e);
   std::istringstream in(all);
   std::string line, message, first;
@@ -25,7 +27,7 @@ std::string usefulMessage(const std::exception& e, const std::string& section) {
     if (m != std::string::npos) line = line.substr(line.find_first_not_of(' ', m + 8));
     if (line.find("'" + section + "'") != std::string::npos) return line;
     if (m != std::string::npos && message.empty()) message = line;
-    if (first.empty() && !line.empty() && line.find("=====") == std::string::npos) first = line;
+    if (first.empty() && !line.empty() && line.find("====") == std::string::npos) first = line;
   }
   if (!message.empty()) return message;
   return first.empty() ? all : first;
@@ -124,22 +126,32 @@ void SensorRunner::go() {
   cv_.notify_all();
 }
 
-void SensorRunner::stop() {
+void SensorRunner::requestStop() {
   {
     std::lock_guard<std::mutex> lock(m_);
     stop_ = true;
   }
   cv_.notify_all();
+}
+
+void SensorRunner::stop() {
+  requestStop();
   if (thread_.joinable()) thread_.join();
   if (state_ == State::kRunning || state_ == State::kStarting) state_ = State::kStopped;
 }
 
 void SensorRunner::run() {
+  loop();
+  exited_ = true;
+}
+
+void SensorRunner::loop() {
   const std::string who = "sensor '" + spec_.section + "' (" + spec_.driver + ")";
   try {
     spec_.sensor->initialize();
   } catch (const std::exception& e) {
     state_ = State::kFailed;
+    bad_input_ = dynamic_cast<const InputError*>(&e) != nullptr;
     queue_.report(who + " failed to start: " + usefulMessage(e, spec_.section));
   }
   {

@@ -65,9 +65,15 @@ class SensorRunner {
   /// Blocks until initialize() has returned or thrown.
   void waitInitialized();
   void go();
+  /// Asks the thread to end after its current doProcess() (returns at once).
+  void requestStop();
+  /// True once the thread has left its loop (or was never started).
+  bool exited() const { return exited_ || !thread_.joinable(); }
   void stop();  // asks the thread to end and joins it
 
   State state() const { return state_; }
+  /// initialize() refused its configuration (an InputError: a bad key, a missing file).
+  bool failedOnInput() const { return bad_input_; }
   const std::string& section() const { return spec_.section; }
   const std::string& driver() const { return spec_.driver; }
   mrpt::hwdrivers::CGenericSensor& sensor() { return *spec_.sensor; }
@@ -75,12 +81,14 @@ class SensorRunner {
 
  private:
   void run();
+  void loop();
 
   SensorSpec spec_;
   ObservationQueue& queue_;
   std::thread thread_;
   std::atomic<State> state_{State::kStarting};
-  std::atomic<bool> stop_{false}, go_{false}, initialized_{false};
+  std::atomic<bool> stop_{false}, go_{false}, initialized_{false}, exited_{false};
+  std::atomic<bool> bad_input_{false};
   std::atomic<std::size_t> count_{0};
   std::mutex m_;
   std::condition_variable cv_;

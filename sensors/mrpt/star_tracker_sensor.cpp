@@ -3,6 +3,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/hwdrivers/CCameraSensor.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/system/datetime.h>
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
@@ -164,6 +165,7 @@ void CStarTrackerSensor::initialize() {
   opts_ = o;
 
   // Star database: a file, or built in memory for this camera.
+  db_build_ = DatabaseBuild{database_file_, catalog_file_, mag_limit_, 0.0, aberration_};
   try {
     if (!database_file_.empty()) {
       db_ = std::make_shared<const StarDatabase>(StarDatabase::load(database_file_));
@@ -176,6 +178,7 @@ void CStarTrackerSensor::initialize() {
                            : facts.epoch_jyear ? *facts.epoch_jyear
                                                : julianYear(mrpt::Clock::now());
       recipe.aberration = aberration_;
+      db_build_.epoch_jyear = recipe.epoch_jyear;
       const std::string cat =
           catalog_file_.empty() ? StarDatabase::defaultCatalogPath() : catalog_file_;
       db_ = std::make_shared<const StarDatabase>(
@@ -255,7 +258,9 @@ void CStarTrackerSensor::processFrame(const mrpt::obs::CObservation& image_obs,
   // Called without our lock: it may take the caller's.
   const FrameInputs inputs = provider ? provider(t) : FrameInputs{};
   if (!first_frame_) first_frame_ = t;
-  const double t_s = std::chrono::duration<double>(t - *first_frame_).count();
+  // As the navigator counts time (replay's tracker gets its seconds): the same frames then
+  // give the same numbers live and in replay.
+  const double t_s = mrpt::system::timeDifference(*first_frame_, t);
   const FrameResult frame = tracker_->process(image, t_s, inputs);
   auto obs = observationFromFrame(frame, t, m_sensorLabel, opts_.sensor_pose);
   ++frames_;

@@ -86,6 +86,18 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   /// Available after initialize().
   const CameraModel& camera() const { return camera_; }
   const StarDatabase* database() const { return db_.get(); }
+  /// The tracker's effective options (the source's exposure and noise filled in).
+  const PipelineOptions& pipelineOptions() const { return opts_; }
+  /// How the star database was made: what a replay needs to make the same one.
+  struct DatabaseBuild {
+    std::string file;     ///< a saved database (as configured); empty = built from:
+    std::string catalog;  ///< as configured; empty = StarDatabase::defaultCatalogPath()
+    double mag_limit = 6.5;
+    double epoch_jyear = 0;  ///< the epoch used (the key's, the source's, or now)
+    bool aberration = true;
+  };
+  const DatabaseBuild& databaseBuild() const { return db_build_; }
+  const std::string& imageLabel() const { return image_label_; }
   /// True when the inner source has no more frames (a finished simulated scenario).
   bool sourceFinished() const;
 
@@ -115,6 +127,7 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   // runtime
   std::unique_ptr<mrpt::hwdrivers::CGenericSensor> source_;
   std::shared_ptr<const StarDatabase> db_;
+  DatabaseBuild db_build_;
   CameraModel camera_;
   std::unique_ptr<StarTracker> tracker_;
   int image_counter_ = 0;

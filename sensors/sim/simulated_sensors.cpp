@@ -177,8 +177,9 @@ void CSimulatedStarCamera::doProcess() {
   skipped_ += last - next_frame_;  // fallen behind: deliver only the newest frame
   const SimFrame f = sim_->frame(last);
   next_frame_ = last + 1;
-  const auto stamp = simulatedSensorsStart() +
-                     std::chrono::duration_cast<mrpt::Clock::duration>(std::chrono::duration<double>(f.t));
+  // The scenario's clock, not the wall clock: the sky was rendered for the scenario's date,
+  // and a recording replays with a star database of its stamps' epoch.
+  const auto stamp = sc.timestamp(f.t);
   std::vector<mrpt::serialization::CSerializable::Ptr> out;
   if (!f.dropped) {
     auto obs = makeCameraObservation(f.image, sc.camera, stamp, m_sensorLabel);
@@ -222,16 +223,13 @@ void CSimulatedGyro::initialize() {
 void CSimulatedGyro::doProcess() {
   if (!stream_ || done_) return;
   const double now = simulatedSensorsElapsed();
-  const auto start = simulatedSensorsStart();
   GyroSample g;
   while (stream_->nextTime() <= now) {
     if (!stream_->next(g)) {
       done_ = true;
       break;
     }
-    const auto stamp = start + std::chrono::duration_cast<mrpt::Clock::duration>(
-                                   std::chrono::duration<double>(g.t));
-    appendObservation(makeGyroObservation(g.rate, stamp, m_sensorLabel));
+    appendObservation(makeGyroObservation(g.rate, scenario_->timestamp(g.t), m_sensorLabel));
     ++emitted_;
   }
   if (stream_->nextTime() > scenario_->duration_s + 1e-9) done_ = true;

@@ -2,10 +2,11 @@
 /// The simulated star camera and gyro as MRPT sensors (mrpt::hwdrivers::CGenericSensor), so
 /// that rawlog-grabber style apps run on them as if they were hardware. Both play a scenario
 /// .ini (scenario.hpp) in real time with the same model as `startracker simulate`: frame k
-/// is emitted once the wall clock passes its mid-exposure time plus half the exposure, with
-/// timestamp = start + t_k; gyro sample j when the clock passes t_j. The start is shared by
-/// all simulated sensors of the process (the first doProcess() of any of them), so camera
-/// and gyro share one clock. When the process falls behind by more than one frame, the
+/// is emitted once the wall clock passes its mid-exposure time plus half the exposure, gyro
+/// sample j when it passes t_j, both counted from a start shared by all simulated sensors of
+/// the process (the first doProcess() of any of them). Their timestamps are the scenario's
+/// clock, Scenario::timestamp(t) (its start_time + t), as `simulate` stamps them: the sky is
+/// rendered for that date, so a recording's stamps give replay the epoch of the sky. When the process falls behind by more than one frame, the
 /// camera skips the stale frames (as a real camera drops them) and counts them.
 ///
 /// .ini section (besides CGenericSensor's process_rate, sensorLabel, ...):
@@ -110,7 +111,7 @@ class CSimulatedGyro : public mrpt::hwdrivers::CGenericSensor {
 void registerSimulatedSensors();
 
 /// Seconds since the shared start of the simulated sensors (starts the clock on first call),
-/// and the wall-clock time of that start.
+/// and the wall-clock time of that start (when the sensors emit, not their stamps).
 double simulatedSensorsElapsed();
 mrpt::Clock::time_point simulatedSensorsStart();
 /// Restarts the shared clock at the next call (tests that run several live sessions).

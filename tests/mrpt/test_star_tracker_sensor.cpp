@@ -169,7 +169,7 @@ TEST(StarTrackerSensor, ExternalPredictionMakesTheSecondFrameTrack) {
   sensor->setInputsProvider([&](mrpt::Clock::time_point t) {
     ++asked;
     const double dt =
-        std::chrono::duration<double>(t - simulatedSensorsStart()).count();
+        std::chrono::duration<double>(t - sc.timestamp(0)).count();  // the scenario's clock
     AttitudePrediction p;
     p.q_ib = sc.motion->attitude(dt) * quatExp(Vec3(2e-5, -1e-5, 3e-5));  // a small error
     p.cov_body = Mat3::Identity() * 1e-8;

@@ -87,19 +87,24 @@ TEST(SimulatedSensors, RegisteredAndRunInRealTimeOnOneClock) {
   const Scenario sc = Scenario::load(scenario);
   SkySimulator sim(sc, sc.seed);
   GyroStream gs(sc, sc.seed);
-  const auto start = simulatedSensorsStart();
+  // Stamped on the scenario's clock (its start_time + t), exactly as `simulate` stamps: the
+  // sky is rendered for that date, so the stamps must carry it (not the wall clock's).
+  const auto start = sc.timestamp(0);
   int cams = 0, gyros = 0, truths = 0;
   for (const auto& [stamp, ser] : all) {
     const double t = std::chrono::duration<double>(stamp - start).count();
+    ASSERT_GE(t, -1e-9) << "stamped before the scenario's start (the wall clock?)";
+    ASSERT_LE(t, sc.duration_s + 1e-9) << "stamped after the scenario's end (the wall clock?)";
     if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(ser)) {
       ++cams;
       const int k = static_cast<int>(std::lround(t * sc.frame_rate_hz));
+      EXPECT_EQ(stamp, sc.timestamp(sc.frameTime(k)));
       EXPECT_EQ(cv::norm(img->image.asCvMatRef(), sim.frame(k).image, cv::NORM_INF), 0.0);
       EXPECT_EQ(img->sensorLabel, "CAMERA");
     } else if (auto imu = std::dynamic_pointer_cast<mrpt::obs::CObservationIMU>(ser)) {
       GyroSample g;
       ASSERT_TRUE(gs.next(g));
-      EXPECT_NEAR(t, g.t, 1e-6);
+      EXPECT_EQ(stamp, sc.timestamp(g.t));
       EXPECT_EQ(rateFromObservation(*imu), g.rate);
       ++gyros;
     } else if (std::dynamic_pointer_cast<mrpt::obs::CObservation6DFeatures>(ser)) {
