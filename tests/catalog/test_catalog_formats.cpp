@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "catalog/database_recipe.hpp"
 #include "catalog/epoch_correction.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
@@ -251,6 +252,17 @@ TEST(CatalogFormats, DetectionByNameThenContentAndBadInput) {
   msg = inputError([&] { loadTycho2(writeText("bad.dat", bad)); });
   EXPECT_NE(msg.find("bad.dat:1"), std::string::npos) << msg;
   EXPECT_NE(msg.find("BTmag"), std::string::npos) << msg;
+}
+
+// What solve prints for a database whose pairs stop short of the image diagonal.
+TEST(PairCoverage, WarnsOnlyWhenPairsStopShortOfTheDiagonal) {
+  DatabaseParams p = test::params15();  // pairs to 15 deg
+  EXPECT_EQ(pairCoverageWarning(p, deg2rad(14.9), "s.db"), "");
+  EXPECT_EQ(pairCoverageWarning(p, deg2rad(15.0), "s.db"), "");
+  const std::string w = pairCoverageWarning(p, deg2rad(21.09), "s.db");
+  EXPECT_NE(w.find("s.db"), std::string::npos) << w;
+  EXPECT_NE(w.find("21.09"), std::string::npos) << w;
+  EXPECT_NE(w.find("--diagonal-fov-deg 21.10"), std::string::npos) << w;
 }
 
 }  // namespace
