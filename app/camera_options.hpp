@@ -1,6 +1,7 @@
 /// @file camera_options.hpp
 /// The camera options shared by every command that needs a camera: `--camera FILE`
-/// (OpenCV YAML/XML, or an MRPT .ini with `--camera-section`) or `--fov-deg` with the image
+/// (OpenCV YAML/XML, or an MRPT .ini with `--camera-section`) or `--fov-deg`, the HORIZONTAL
+/// field of view (of the image width; the same meaning in every command), with the image
 /// size (principal point at the centre).
 #pragma once
 #include <CLI/CLI.hpp>

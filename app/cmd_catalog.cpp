@@ -1,13 +1,24 @@
 // `startracker catalog build|info`: the ground program. Builds the star database (pairs +
-// k-vector, cone index, neighbour table) from a real catalog for a camera FOV and magnitude
+// k-vector, cone index, neighbour table) from a real catalog for a camera and magnitude
 // limit, and prints what a database file holds.
+//
+// The camera: `--fov-deg` is the HORIZONTAL field of view here as in every other command
+// (solve, camera, scenario files), with `--size W H` for the aspect; without it the image is
+// taken as square, which covers every landscape sensor of that horizontal FOV. Until issue 21
+// `catalog build --fov-deg` meant the diagonal: such a call now builds pairs out to a wider
+// angle (a superset, never fewer pairs) and says so on stderr; `--diagonal-fov-deg` keeps the
+// old meaning under its own name; `--camera FILE` takes a calibrated camera.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "app/camera_options.hpp"
 #include "app/command.hpp"
+#include "app/output_file.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
@@ -18,18 +29,121 @@ namespace {
 
 struct CatalogBuildOptions {
   std::string catalog_path = StarDatabase::defaultCatalogPath();
-  double fov_deg = 0;
+  std::string catalog_format = "auto";
+  CameraOptions camera;             // --camera / --camera-section / --fov-deg (horizontal)
+  std::vector<int> size;            // --size W H with --fov-deg
+  std::optional<double> diagonal_fov_deg;
   double margin_deg = 0.2;
   double mag_limit = 6.5;
   double epoch = 2025.0;
   bool no_aberration = false;
   bool no_parallax = false;
   double double_star_arcsec = 10.0;
-  int per_region = 0;
-  double region_deg = 0;
-  double neighbour_deg = 0;
+  int per_region = 0;                    // 0 = no density reduction (said so in the help)
+  std::optional<double> region_deg;      // unset: half the pair angle
+  std::optional<double> neighbour_deg;   // unset: half the diagonal
   std::string out;
 };
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+// InputError naming the flag and the value unless lo <(=) v <= hi (NaN never passes).
+void requireIn(const char* flag, double v, double lo, double hi, bool lo_open,
+               const std::string& hint = "") {
+  const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
+  if (!ok)
+    throw InputError(std::string(flag) + " " + num(v) + ": must be " + (lo_open ? "> " : ">= ") +
+                     num(lo) + " and <= " + num(hi) + (hint.empty() ? "" : " (" + hint + ")"));
+}
+
+// The image diagonal the pair index must span, from the one camera option given; `how`
+// describes it for the log.
+double diagonalFov(const CatalogBuildOptions& o, std::string& how) {
+  const int given = int(!o.camera.camera_file.empty()) + int(o.camera.fov_deg > 0) +
+                    int(o.diagonal_fov_deg.has_value());
+  if (given != 1)
+    throw InputError("catalog build needs exactly one of --fov-deg H (horizontal FOV, with "
+                     "--size W H), --camera FILE or --diagonal-fov-deg D");
+  if (!o.size.empty() && !(o.camera.fov_deg > 0))
+    throw InputError("--size is the image size for --fov-deg; a --camera file has its own");
+  char b[300];
+  if (o.diagonal_fov_deg) {
+    requireIn("--diagonal-fov-deg", *o.diagonal_fov_deg, 0.1, 170.0, false);
+    std::snprintf(b, sizeof b, "a diagonal FOV of %.3f deg (--diagonal-fov-deg)",
+                  *o.diagonal_fov_deg);
+    how = b;
+    return deg2rad(*o.diagonal_fov_deg);
+  }
+  if (!o.camera.camera_file.empty()) {
+    const CameraModel cam = o.camera.resolve(0, 0);
+    std::snprintf(b, sizeof b, "the %dx%d camera of %s: diagonal FOV %.3f deg", cam.width(),
+                  cam.height(), o.camera.camera_file.c_str(), rad2deg(2 * cam.halfDiagonalFov()));
+    how = b;
+    return 2 * cam.halfDiagonalFov();
+  }
+  requireIn("--fov-deg", o.camera.fov_deg, 0.1, 179.0, false);
+  const bool square = o.size.empty();
+  const int w = square ? 1024 : o.size[0], h = square ? 1024 : o.size[1];
+  if (w < 1 || h < 1)
+    throw InputError("--size " + std::to_string(w) + " " + std::to_string(h) +
+                     ": width and height must be >= 1 px");
+  const CameraModel cam = CameraModel::fromFov(w, h, deg2rad(o.camera.fov_deg));
+  const double diag = 2 * cam.halfDiagonalFov();
+  if (!(diag < deg2rad(170.0)))
+    throw InputError("--fov-deg " + num(o.camera.fov_deg) + " with --size " + std::to_string(w) +
+                     " " + std::to_string(h) + ": the diagonal would exceed 170 deg");
+  if (square)
+    std::fprintf(stderr,
+                 "[catalog] note: --fov-deg %g is the HORIZONTAL field of view (as in solve and "
+                 "camera files); without --size W H the image is taken as square, so pairs "
+                 "span its diagonal, %.3f deg. Before issue 21 this option meant the diagonal: "
+                 "for that, use --diagonal-fov-deg.\n",
+                 o.camera.fov_deg, rad2deg(diag));
+  std::snprintf(b, sizeof b, "a %s %dx%d image of %.3f deg horizontal FOV: diagonal %.3f deg",
+                square ? "square" : "", w, h, o.camera.fov_deg, rad2deg(diag));
+  how = b;
+  return diag;
+}
+
+// Every number of the build, checked before any work or output (the camera's in diagonalFov).
+void checkNumbers(const CatalogBuildOptions& o) {
+  requireIn("--margin-deg", o.margin_deg, 0.0, 10.0, false);
+  requireIn("--mag-limit", o.mag_limit, -30.0, 30.0, false);
+  requireIn("--epoch", o.epoch, 1000.0, 3000.0, false, "a Julian year, e.g. 2026.9");
+  requireIn("--double-star-arcsec", o.double_star_arcsec, 0.0, 3599.0, false, "0 = no merge");
+  if (o.per_region < 0)
+    throw InputError("--per-region " + std::to_string(o.per_region) +
+                     ": must be >= 1, or 0 for no density reduction");
+  if (o.region_deg) {
+    if (o.per_region == 0)
+      throw InputError("--region-deg is the cone of --per-region N; give --per-region too");
+    requireIn("--region-deg", *o.region_deg, 0.0, 90.0, true,
+              "omit it for half the pair angle");
+  }
+  if (o.neighbour_deg)
+    requireIn("--neighbour-deg", *o.neighbour_deg, 0.0, 90.0, true,
+              "the neighbour table cannot be empty; omit the option for half the diagonal");
+}
+
+DatabaseParams buildParams(const CatalogBuildOptions& o, double diag) {
+  DatabaseParams p{};
+  p.max_pair_angle = diag + deg2rad(o.margin_deg);
+  if (!(p.max_pair_angle < kPi))
+    throw InputError("--margin-deg " + num(o.margin_deg) + ": diagonal + margin reaches 180 deg");
+  p.mag_limit = o.mag_limit;
+  p.epoch_jyear = o.epoch;
+  p.aberration = !o.no_aberration;
+  p.parallax = !o.no_parallax;
+  p.double_star_sep = arcsec2rad(o.double_star_arcsec);
+  p.max_stars_per_region = o.per_region;
+  p.region_radius = o.region_deg ? deg2rad(*o.region_deg) : p.max_pair_angle / 2;
+  p.neighbour_radius = o.neighbour_deg ? deg2rad(*o.neighbour_deg) : diag / 2;
+  return p;
+}
 
 void printDatabase(const StarDatabase& db, const std::string& path) {
   const DatabaseParams& p = db.params();
@@ -39,10 +153,17 @@ void printDatabase(const StarDatabase& db, const std::string& path) {
     std::printf("  file size            %.2f MB\n", std::filesystem::file_size(path) / 1e6);
   std::printf("  catalog              %s (epoch J%.2f)\n", r.catalog_name.c_str(),
               r.catalog_epoch_jyear);
+  if (!r.catalog_path.empty())
+    std::printf("  catalog file         %s (depth V %.2f)\n", r.catalog_path.c_str(),
+                r.catalog_depth_vmag);
   std::printf("  epoch                J%.3f  proper motion on, parallax %s, aberration %s\n",
               p.epoch_jyear, p.parallax ? "on" : "off", p.aberration ? "on" : "off");
   std::printf("  max pair angle       %.3f deg\n", rad2deg(p.max_pair_angle));
-  std::printf("  magnitude limit      V <= %.2f\n", p.mag_limit);
+  if (r.requested_mag_limit > p.mag_limit)
+    std::printf("  magnitude limit      V <= %.2f (asked V <= %.2f, beyond the catalog's depth)\n",
+                p.mag_limit, r.requested_mag_limit);
+  else
+    std::printf("  magnitude limit      V <= %.2f\n", p.mag_limit);
   std::printf("  double-star merge    %.2f arcsec\n", rad2arcsec(p.double_star_sep));
   if (p.max_stars_per_region > 0)
     std::printf("  uniform density      %d brightest per %.2f deg cone\n", p.max_stars_per_region,
@@ -65,6 +186,37 @@ void printDatabase(const StarDatabase& db, const std::string& path) {
               db.stars().empty() ? 0.0 : double(r.neighbour_entries) / db.stars().size());
 }
 
+int runBuild(const CatalogBuildOptions& o) {
+  checkNumbers(o);
+  std::string how;
+  const double diag = diagonalFov(o, how);
+  const DatabaseParams p = buildParams(o, diag);
+  prepareOutputFile(o.out, "--output");
+  std::fprintf(stderr, "[catalog] camera: %s; pairs up to %.3f deg\n", how.c_str(),
+               rad2deg(p.max_pair_angle));
+  std::fprintf(stderr, "[catalog] loading %s\n", o.catalog_path.c_str());
+  const StarCatalog cat = loadCatalog(o.catalog_path, o.catalog_format);
+  std::fprintf(stderr,
+               "[catalog] %s: %zu entries (%zu without position skipped, %zu without V), "
+               "depth V %.2f (faintest %.2f)\n",
+               cat.format.c_str(), cat.entries.size(), cat.skipped_no_position,
+               cat.skipped_no_magnitude, cat.depth_vmag, cat.faintest_vmag);
+  double brightest = cat.entries.front().vmag;
+  for (const CatalogEntry& e : cat.entries) brightest = std::min(brightest, e.vmag);
+  if (o.mag_limit < brightest)
+    throw InputError("--mag-limit " + num(o.mag_limit) + ": no star of " + o.catalog_path +
+                     " is that bright (its brightest is V " + num(brightest) +
+                     "); the database would be empty");
+  const StarDatabase db = StarDatabase::build(cat, p, [](const std::string& m) {
+    std::fprintf(stderr, "[catalog] %s\n", m.c_str());
+  });
+  std::fprintf(stderr, "[catalog] built in %.3f s; writing %s\n", db.report().build_seconds,
+               o.out.c_str());
+  db.save(o.out);
+  printDatabase(db, o.out);
+  return kExitOk;
+}
+
 }  // namespace
 
 void addCatalogCommand(CLI::App& root, CommandRun& run) {
@@ -73,57 +225,42 @@ void addCatalogCommand(CLI::App& root, CommandRun& run) {
 
   auto o = std::make_shared<CatalogBuildOptions>();
   auto* build = cmd->add_subcommand("build", "Build a star database file from a star catalog");
+  std::vector<std::string> formats = {"auto"};
+  for (const std::string& f : catalogFormats()) formats.push_back(f);
   build->add_option("--catalog", o->catalog_path,
-                    "Hipparcos hip_main.dat (.gz) or BSC5 binary (default: the committed subset)");
-  build->add_option("--fov-deg", o->fov_deg,
-                    "Largest star separation in one image: the camera's diagonal FOV [deg]")
-      ->required()
-      ->check(CLI::Range(0.1, 120.0));
-  build->add_option("--margin-deg", o->margin_deg, "Added to --fov-deg for the pair index [deg]")
+                    "Star catalog: Hipparcos hip_main.dat, Tycho-2 tyc2.dat (plain or .gz) or "
+                    "BSC5 binary (default: the committed Hipparcos subset, V <= 6.6)");
+  build->add_option("--catalog-format", o->catalog_format,
+                    "Format of --catalog (auto: from the file name, else its content)")
+      ->check(CLI::IsMember(formats))
       ->capture_default_str();
-  build->add_option("--mag-limit", o->mag_limit, "Keep stars with V <= this")->capture_default_str();
+  o->camera.addTo(*build);
+  build->add_option("--size", o->size, "Image size W H [px] for --fov-deg (default: square)")
+      ->expected(2);
+  build->add_option("--diagonal-fov-deg", o->diagonal_fov_deg,
+                    "The image diagonal [deg], instead of --fov-deg/--camera");
+  build->add_option("--margin-deg", o->margin_deg, "Added to the diagonal for the pair index [deg]")
+      ->capture_default_str();
+  build->add_option("--mag-limit", o->mag_limit,
+                    "Keep stars with V <= this (capped, with a warning, at the catalog's depth)")
+      ->capture_default_str();
   build->add_option("--epoch", o->epoch, "Observation epoch, Julian year (e.g. 2019.57)")
       ->capture_default_str();
   build->add_flag("--no-aberration", o->no_aberration, "Do not apply annual aberration");
   build->add_flag("--no-parallax", o->no_parallax, "Do not apply annual parallax");
   build->add_option("--double-star-arcsec", o->double_star_arcsec,
                     "Merge stars closer than this (0 = off) [arcsec]")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 3600.0));
+      ->capture_default_str();
   build->add_option("--per-region", o->per_region,
                     "Uniform density: keep the N brightest per cone (0 = off)")
-      ->check(CLI::NonNegativeNumber);
+      ->capture_default_str();
   build->add_option("--region-deg", o->region_deg,
-                    "Radius of the density cones [deg] (default: half of --fov-deg)");
+                    "Radius of the density cones [deg] (default: half the pair angle)");
   build->add_option("--neighbour-deg", o->neighbour_deg,
-                    "Radius of the star-neighbourhood table [deg] (default: half of --fov-deg)");
+                    "Radius of the star-neighbourhood table [deg] (default: half the diagonal)");
   build->add_option("-o,--output", o->out, "Database file to write")->required();
   build->callback([o, &run] {
-    run = [o] {
-      const double fov = deg2rad(o->fov_deg);
-      DatabaseParams p{};
-      p.max_pair_angle = fov + deg2rad(o->margin_deg);
-      p.mag_limit = o->mag_limit;
-      p.epoch_jyear = o->epoch;
-      p.aberration = !o->no_aberration;
-      p.parallax = !o->no_parallax;
-      p.double_star_sep = arcsec2rad(o->double_star_arcsec);
-      p.max_stars_per_region = o->per_region;
-      p.region_radius = deg2rad(o->region_deg);
-      p.neighbour_radius = o->neighbour_deg > 0 ? deg2rad(o->neighbour_deg) : fov / 2;
-      std::fprintf(stderr, "[catalog] loading %s\n", o->catalog_path.c_str());
-      const StarCatalog cat = loadCatalog(o->catalog_path);
-      std::fprintf(stderr, "[catalog] %zu entries (%zu without position skipped, %zu without V)\n",
-                   cat.entries.size(), cat.skipped_no_position, cat.skipped_no_magnitude);
-      const StarDatabase db = StarDatabase::build(cat, p, [](const std::string& m) {
-        std::fprintf(stderr, "[catalog] %s\n", m.c_str());
-      });
-      std::fprintf(stderr, "[catalog] built in %.3f s; writing %s\n", db.report().build_seconds,
-                   o->out.c_str());
-      db.save(o->out);
-      printDatabase(db, o->out);
-      return kExitOk;
-    };
+    run = [o] { return runBuild(*o); };
   });
 
   auto info_path = std::make_shared<std::string>();

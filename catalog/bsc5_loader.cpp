@@ -53,6 +53,7 @@ StarCatalog loadBsc5(const std::string& path) {
   const std::size_t n = std::size_t(-int64_t(starn));
   StarCatalog cat;
   cat.name = "Yale Bright Star Catalogue 5 (Harvard TDC binary)";
+  cat.format = "bsc5";
   cat.source_path = path;
   cat.epoch_jyear = 2000.0;
   cat.entries.reserve(n);
@@ -93,6 +94,8 @@ StarCatalog loadBsc5(const std::string& path) {
     throw InputError(path + ": " + std::to_string(bytes.size() - kHeaderBytes - n * kEntryBytes) +
                      " trailing bytes after the " + std::to_string(n) +
                      " records the header announces");
+  cat.completeness_vmag = 6.5;  // Hoffleit & Warren 1991: the stars brighter than about V 6.5
+  finishCatalog(cat);
   return cat;
 }
 

@@ -1,6 +1,7 @@
 // The database file: one little-endian binary blob
 //   magic "STARDB\r\n" | uint32 format version | uint32 byte-order mark 0x01020304 |
-//   build parameters | build report (incl. catalog name and epoch) | stars | pairs |
+//   build parameters | build report (incl. catalog name and epoch; format 2 adds the catalog
+//   path, its depth and the requested magnitude limit) | stars | pairs |
 //   neighbour table | uint32 CRC-32 (zlib) of every byte before it.
 // Pair and neighbour indices are stored as uint16 when there are < 65536 stars (that keeps a
 // 15 deg / V 6.5 database under 10 MB). The pair k-vector and the cone index are not stored:
@@ -10,6 +11,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <type_traits>
 
 #include "catalog/star_database.hpp"
@@ -19,7 +21,10 @@ namespace st {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'T', 'A', 'R', 'D', 'B', '\r', '\n'};
-constexpr uint32_t kFormatVersion = 1;
+// 2: the report records the catalog file, its depth and the requested limit (issue 21).
+// Format 1 files still load, without those three.
+constexpr uint32_t kFormatVersion = 2;
+constexpr uint32_t kOldestReadableVersion = 1;
 constexpr uint32_t kByteOrderMark = 0x01020304;
 
 class Writer {
@@ -107,6 +112,9 @@ void StarDatabase::save(const std::string& path) const {
   const BuildReport& r = report_;
   w.putString(r.catalog_name);
   w.put(r.catalog_epoch_jyear);
+  w.putString(r.catalog_path);
+  w.put(r.catalog_depth_vmag);
+  w.put(r.requested_mag_limit);
   for (std::size_t v : {r.catalog_entries, r.skipped_no_position, r.merge_candidates,
                         r.double_star_groups, r.stars_merged_away, r.after_mag_limit,
                         r.after_density})
@@ -150,7 +158,7 @@ namespace {
 
 // The whole file in one bulk read (the load must take milliseconds), its magic, byte order,
 // version and checksum verified; `body` is where the checksum starts.
-std::string readVerified(const std::string& path, std::size_t& body) {
+std::string readVerified(const std::string& path, std::size_t& body, uint32_t& version) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path + ": cannot open star database");
   std::string bytes(std::size_t(in.tellg()), '\0');
@@ -160,14 +168,15 @@ std::string readVerified(const std::string& path, std::size_t& body) {
   if (bytes.size() < sizeof kMagic + 12 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw InputError(path + ": not a star database (bad magic; build one with "
                      "`startracker catalog build`)");
-  uint32_t version, bom;
+  uint32_t bom;
   std::memcpy(&version, bytes.data() + sizeof kMagic, 4);
   std::memcpy(&bom, bytes.data() + sizeof kMagic + 4, 4);
   if (bom != kByteOrderMark)
     throw InputError(path + ": star database written on a host of the other byte order");
-  if (version != kFormatVersion)
+  if (version < kOldestReadableVersion || version > kFormatVersion)
     throw InputError(path + ": star database format version " + std::to_string(version) +
-                     ", this program reads version " + std::to_string(kFormatVersion) +
+                     ", this program reads versions " + std::to_string(kOldestReadableVersion) +
+                     " to " + std::to_string(kFormatVersion) +
                      "; rebuild it with `startracker catalog build`");
   body = bytes.size() - 4;
   uint32_t stored_crc;
@@ -189,9 +198,18 @@ void readParams(Reader& rd, DatabaseParams& p) {
   p.neighbour_radius = rd.get<double>("parameters");
 }
 
-void readReport(Reader& rd, BuildReport& r) {
+void readReport(Reader& rd, uint32_t version, double mag_limit, BuildReport& r) {
   r.catalog_name = rd.getString("catalog name");
   r.catalog_epoch_jyear = rd.get<double>("report");
+  if (version >= 2) {
+    r.catalog_path = rd.getString("catalog path");
+    r.catalog_depth_vmag = rd.get<double>("report");
+    r.requested_mag_limit = rd.get<double>("report");
+  } else {  // format 1 recorded the requested limit only, and neither file nor depth
+    r.catalog_path.clear();
+    r.catalog_depth_vmag = std::numeric_limits<double>::quiet_NaN();
+    r.requested_mag_limit = mag_limit;
+  }
   for (std::size_t* v : {&r.catalog_entries, &r.skipped_no_position, &r.merge_candidates,
                          &r.double_star_groups, &r.stars_merged_away, &r.after_mag_limit,
                          &r.after_density})
@@ -258,7 +276,8 @@ void readNeighbours(Reader& rd, const std::string& path, uint8_t width, uint32_t
 
 StarDatabase StarDatabase::load(const std::string& path) {
   std::size_t body = 0;
-  const std::string bytes = readVerified(path, body);
+  uint32_t version = 0;
+  const std::string bytes = readVerified(path, body, version);
   Reader rd(path, bytes, body);
   rd.need(sizeof kMagic + 8, "header");
   rd.get<uint64_t>("magic");
@@ -266,7 +285,7 @@ StarDatabase StarDatabase::load(const std::string& path) {
   StarDatabase db;
   readParams(rd, db.params_);
   BuildReport& r = db.report_;
-  readReport(rd, r);
+  readReport(rd, version, db.params_.mag_limit, r);
   readStars(rd, db.stars_);
   const uint32_t n = static_cast<uint32_t>(db.stars_.size());
   const uint8_t width = rd.get<uint8_t>("index width");

@@ -1,5 +1,7 @@
 #include "catalog/database_recipe.hpp"
 
+#include <cstdio>
+
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 
@@ -18,6 +20,19 @@ DatabaseParams databaseParams(const CameraDatabaseRecipe& r) {
   p.max_stars_per_region = 0;
   p.neighbour_radius = r.diagonal_fov_rad / 2;
   return p;
+}
+
+std::string pairCoverageWarning(const DatabaseParams& p, double diagonal_fov_rad,
+                                const std::string& db_path) {
+  if (p.max_pair_angle >= diagonal_fov_rad * 0.999) return {};
+  char b[512];
+  std::snprintf(b, sizeof b,
+                "%s holds pairs up to %.2f deg, the image diagonal is %.2f deg; stars far apart "
+                "will not be paired (rebuild it with `catalog build --diagonal-fov-deg %.2f`, or "
+                "--fov-deg H --size W H with the image's horizontal FOV and size)",
+                db_path.c_str(), rad2deg(p.max_pair_angle), rad2deg(diagonal_fov_rad),
+                rad2deg(diagonal_fov_rad) + 0.01);
+  return b;
 }
 
 }  // namespace st

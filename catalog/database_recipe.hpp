@@ -8,6 +8,8 @@
 /// `catalog build` exposes every parameter; the simulator and the Monte Carlo experiments
 /// build their own (a renderer needs no pairs; the papers' experiments fix their own).
 #pragma once
+#include <string>
+
 #include "catalog/star_database.hpp"
 
 namespace st {
@@ -22,5 +24,12 @@ struct CameraDatabaseRecipe {
 
 /// The database parameters of the recipe (InputError for a non-positive FOV or scale).
 DatabaseParams databaseParams(const CameraDatabaseRecipe& r);
+
+/// Empty when a database built with `p` pairs every two stars of an image whose diagonal FOV
+/// is `diagonal_fov_rad`; else a one-line warning naming `db_path`, both angles and the
+/// `catalog build` options that would cover the image (`--diagonal-fov-deg`; `--fov-deg` is
+/// the horizontal FOV there as everywhere).
+std::string pairCoverageWarning(const DatabaseParams& p, double diagonal_fov_rad,
+                                const std::string& db_path);
 
 }  // namespace st

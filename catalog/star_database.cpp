@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "catalog/epoch_correction.hpp"
@@ -61,6 +62,12 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
 }
 
 namespace {
+
+std::string fmtMag(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2f", v);
+  return b;
+}
 
 void say(const StarDatabase::ProgressFn& progress, const std::string& m) {
   if (progress) progress(m);
@@ -128,21 +135,32 @@ std::vector<Star> uniformDensityStars(const StarDatabase& db, const DatabasePara
 
 }  // namespace
 
-StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params,
+StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params_in,
                                  const ProgressFn& progress) {
-  requireValid(params);  // the ground program's edge: InputError naming the field
+  requireValid(params_in);  // the ground program's edge: InputError naming the field
   const auto t0 = std::chrono::steady_clock::now();
   StarDatabase db;
+  DatabaseParams params = params_in;
+  params.mag_limit = effectiveMagLimit(cat, params_in.mag_limit);
   db.params_ = params;
   BuildReport& rep = db.report_;
   rep.catalog_name = cat.name;
   rep.catalog_epoch_jyear = cat.epoch_jyear;
+  rep.catalog_path = cat.source_path;
+  rep.catalog_depth_vmag = cat.depth_vmag;
+  rep.requested_mag_limit = params_in.mag_limit;
   rep.catalog_entries = cat.entries.size();
   rep.skipped_no_position = cat.skipped_no_position;
 
   std::vector<SelectedStar> sel = epochCorrectedCandidates(cat, params, progress);
   rep.merge_candidates = sel.size();
   mergeAndLimit(sel, params, rep, progress);
+  if (sel.empty()) {
+    double brightest = cat.entries.empty() ? 0 : cat.entries[0].vmag;
+    for (const CatalogEntry& e : cat.entries) brightest = std::min(brightest, e.vmag);
+    throw InputError("magnitude limit V " + fmtMag(params.mag_limit) + " keeps no star of " +
+                     cat.source_path + " (its brightest is V " + fmtMag(brightest) + ")");
+  }
   db.stars_.reserve(sel.size());
   for (const SelectedStar& s : sel) db.stars_.push_back({s.id, s.u, float(s.mag)});
   db.buildIndexes();

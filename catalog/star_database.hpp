@@ -37,7 +37,8 @@ struct PairSlice {
 
 struct DatabaseParams {
   double max_pair_angle;         ///< [rad] pairs up to this separation (camera diagonal FOV + margin)
-  double mag_limit;              ///< keep V <= mag_limit
+  double mag_limit;              ///< keep V <= mag_limit (after build: the effective limit,
+                                 ///< min(requested, the catalog's depth))
   double epoch_jyear;            ///< observation epoch for proper motion / aberration
   bool aberration = true;        ///< annual aberration on
   double double_star_sep;        ///< [rad] merge closer stars (seed 004 eq. 6.1/6.2); 0 = off
@@ -55,6 +56,11 @@ struct DatabaseParams {
 struct BuildReport {
   std::string catalog_name;
   double catalog_epoch_jyear = 0;
+  std::string catalog_path;               ///< the file the catalog was read from
+  /// [mag] the catalog's depth (StarCatalog::depth_vmag); NaN in a format-1 database file.
+  double catalog_depth_vmag = 0;
+  /// [mag] the limit asked for; params().mag_limit is min(this, catalog_depth_vmag).
+  double requested_mag_limit = 0;
   std::size_t catalog_entries = 0;        ///< entries with a position in the catalog
   std::size_t skipped_no_position = 0;    ///< catalog entries without a position
   std::size_t merge_candidates = 0;       ///< V <= mag_limit + merge margin, entering the merge
@@ -70,6 +76,8 @@ struct BuildReport {
 
 class StarDatabase {
  public:
+  /// A limit beyond the catalog's depth is capped to it (warned once, effectiveMagLimit()); a
+  /// limit that keeps no star is an InputError naming the limit and the catalog.
   static StarDatabase build(const StarCatalog&, const DatabaseParams&);
   /// The same, calling `progress` with a one-line message before each step (for the CLI).
   using ProgressFn = std::function<void(const std::string&)>;
@@ -77,7 +85,8 @@ class StarDatabase {
   static std::string defaultCatalogPath();  ///< catalog/data/hip_main_v6.6.dat.gz
   /// Writes the versioned binary file; throws InputError if it cannot be written.
   void save(const std::string& path) const;
-  /// InputError (naming the file) on bad magic/version/checksum or a truncated file.
+  /// InputError (naming the file) on bad magic/version/checksum or a truncated file. Reads
+  /// format 2 and the older format 1 (no catalog path, depth or requested limit).
   static StarDatabase load(const std::string& path);
 
   const std::vector<Star>& stars() const { return stars_; }  ///< sorted brightest first

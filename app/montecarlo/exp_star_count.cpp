@@ -35,6 +35,19 @@ class StarCount : public Experiment {
 
   void prepare(const McOptions& o) override {
     db_ = buildDatabase(o, deg2rad(1.0), o.mags.back());
+    // A limit beyond the catalog's depth would only repeat the row of the depth: refuse it
+    // rather than print rows that look like a measurement.
+    const BuildReport& r = db_->report();
+    std::string beyond;
+    for (double m : o.mags)
+      if (m > r.catalog_depth_vmag) beyond += (beyond.empty() ? "" : ", ") + fmt(m, 4);
+    if (!beyond.empty())
+      throw InputError("star-count: magnitude limit(s) " + beyond + " (--mags/--mag-limit) lie " +
+                       "beyond the depth of " + r.catalog_path + " (V " +
+                       fmt(r.catalog_depth_vmag, 4) + "): their rows would repeat the V " +
+                       fmt(r.catalog_depth_vmag, 4) + " row. Use limits <= " +
+                       fmt(r.catalog_depth_vmag, 4) +
+                       " or a deeper --catalog (hip_main.dat, tyc2.dat)");
     cam_ = makeCamera(o);
   }
 

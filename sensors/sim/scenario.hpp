@@ -14,7 +14,8 @@
 ///     database =               a database file (StarDatabase::save); empty = build one in
 ///                              memory from `catalog` (default StarDatabase::defaultCatalogPath())
 ///     catalog =                catalog for the in-memory build
-///     mag_limit = 7.0          faintest star rendered (in-memory build)
+///     mag_limit = 6.6          faintest star rendered (in-memory build; capped, with a
+///                              warning, at the catalog's depth: V 6.6 for the default one)
 ///     aberration = true        apparent places (annual aberration), in-memory build
 ///     camera_section = camera, sensor_section = sensor, motion_section = motion,
 ///     gyro_section = gyro (absent section = no gyro), faults_section = faults
@@ -61,7 +62,7 @@ struct ScenarioKeys {
   double start_jyear = 2025.0;
   uint64_t seed = 1;
   std::string database, catalog;  ///< as written (relative to the file's folder)
-  double mag_limit = 7.0;
+  double mag_limit = 6.6;
   bool aberration = true;
   std::string camera_section = "camera", sensor_section = "sensor", motion_section = "motion",
               gyro_section = "gyro", faults_section = "faults";
@@ -94,7 +95,7 @@ struct Scenario {
   double start_unix_s = 0;          ///< UTC of t = 0 as Unix seconds
   uint64_t seed = 1;
   std::string database_path, catalog_path;
-  double mag_limit = 7.0;
+  double mag_limit = 6.6;
   bool aberration = true;
   CameraModel camera;
   SensorParams sensor;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -62,6 +63,9 @@ TEST(StarDatabaseFile, RoundTripIsExact) {
   EXPECT_EQ(back.report().catalog_name, db.report().catalog_name);
   EXPECT_EQ(back.report().catalog_epoch_jyear, 1991.25);
   EXPECT_EQ(back.report().after_mag_limit, db.report().after_mag_limit);
+  EXPECT_EQ(back.report().catalog_path, StarDatabase::defaultCatalogPath());
+  EXPECT_EQ(back.report().catalog_depth_vmag, db.report().catalog_depth_vmag);
+  EXPECT_EQ(back.report().requested_mag_limit, db.report().requested_mag_limit);
   std::vector<uint32_t> a, b;
   db.coneQuery(db.stars()[5].u_i, 0.1, a);
   back.coneQuery(db.stars()[5].u_i, 0.1, b);
@@ -83,20 +87,36 @@ TEST(StarDatabaseFile, RefusesCorruptOtherVersionAndForeignFiles) {
   writeBytes(dir + "/cut.stdb", bytes.substr(0, bytes.size() - 1000));
   EXPECT_NE(loadError(dir + "/cut.stdb").find("cut.stdb"), std::string::npos);
 
-  // Another format version, with a checksum that is right for the changed bytes.
-  std::string v2 = bytes.substr(0, bytes.size() - 4);
-  const uint32_t version = 2;
-  std::memcpy(&v2[8], &version, 4);
-  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v2.data()), uInt(v2.size())));
-  v2.append(reinterpret_cast<const char*>(&crc), 4);
-  writeBytes(dir + "/v2.stdb", v2);
-  const std::string msg = loadError(dir + "/v2.stdb");
-  EXPECT_NE(msg.find("version 2"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("v2.stdb"), std::string::npos) << msg;
+  // A newer format version, with a checksum that is right for the changed bytes.
+  std::string v3 = bytes.substr(0, bytes.size() - 4);
+  const uint32_t version = 3;
+  std::memcpy(&v3[8], &version, 4);
+  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v3.data()), uInt(v3.size())));
+  v3.append(reinterpret_cast<const char*>(&crc), 4);
+  writeBytes(dir + "/v3.stdb", v3);
+  const std::string msg = loadError(dir + "/v3.stdb");
+  EXPECT_NE(msg.find("version 3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("v3.stdb"), std::string::npos) << msg;
 
   writeBytes(dir + "/foreign.stdb", "hello, not a database at all........");
   EXPECT_NE(loadError(dir + "/foreign.stdb").find("bad magic"), std::string::npos);
   EXPECT_NE(loadError(dir + "/missing.stdb").find("cannot open"), std::string::npos);
+}
+
+// A file of format 1 (before the catalog's depth was recorded), built by the program of
+// commit de0cfd1 from tests/data/catalogs/hip_main_sample.dat (--fov-deg 20 --mag-limit 6.5
+// --epoch 2020), still loads: the requested limit is the recorded one, the depth unknown.
+TEST(StarDatabaseFile, ReadsFormat1Files) {
+  const std::string path = test::repoDir() + "/tests/data/catalogs/stars_format1.db";
+  const StarDatabase db = StarDatabase::load(path);
+  EXPECT_EQ(db.stars().size(), 32u);
+  EXPECT_EQ(db.pairs().size(), 26u);
+  EXPECT_EQ(db.params().mag_limit, 6.5);
+  EXPECT_EQ(db.params().epoch_jyear, 2020.0);
+  EXPECT_EQ(db.report().requested_mag_limit, 6.5);
+  EXPECT_TRUE(std::isnan(db.report().catalog_depth_vmag));
+  EXPECT_EQ(db.report().catalog_path, "");
+  EXPECT_EQ(db.report().catalog_name, "Hipparcos (ESA 1997, I/239)");
 }
 
 }  // namespace
