@@ -82,6 +82,8 @@ void addMontecarloCommand(CLI::App& root, CommandRun& run) {
         opts.height = (*size)[1];
       }
       mc::parseShard(*shard, opts.shard_index, opts.shard_count);
+      log::debug("%s --threads %d --shard %s --out %s", opts.commandLine().c_str(), opts.threads,
+                 shard->c_str(), opts.out_dir.c_str());
       if (opts.experiment == "merge") return mc::mergeRuns(*dirs, opts);
       if (!dirs->empty())
         throw InputError("unexpected argument '" + dirs->front() + "' after the experiment name");

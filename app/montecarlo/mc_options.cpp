@@ -1,8 +1,6 @@
 #include "app/montecarlo/mc_options.hpp"
 
-#include <climits>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <sstream>
 
@@ -80,24 +78,20 @@ struct KvReader {
   [[noreturn]] void bad(const std::string& key) const {
     throw InputError(source + ": bad value for '" + key + "': '" + get(key) + "'");
   }
-  double num(const std::string& key) const { return number(key, get(key)); }
-  double number(const std::string& key, const std::string& text) const {
+  double num(const std::string& key) const {
     try {
       std::size_t used = 0;
-      const double v = std::stod(text, &used);
-      if (used == text.size() && std::isfinite(v)) return v;
+      const double v = std::stod(get(key), &used);
+      if (used == get(key).size()) return v;
     } catch (const std::exception&) {
     }
     bad(key);
   }
-  /// stoull alone would read "-5" as 2^64 - 5.
-  uint64_t uint(const std::string& key, uint64_t max = UINT64_MAX) const {
-    const std::string& text = get(key);
-    if (text.empty() || text[0] < '0' || text[0] > '9') bad(key);
+  uint64_t uint(const std::string& key) const {
     try {
       std::size_t used = 0;
-      const uint64_t v = std::stoull(text, &used);
-      if (used == text.size() && v <= max) return v;
+      const uint64_t v = std::stoull(get(key), &used);
+      if (used == get(key).size()) return v;
     } catch (const std::exception&) {
     }
     bad(key);
@@ -112,7 +106,13 @@ struct KvReader {
   }
   std::vector<double> nums(const std::string& key) const {
     std::vector<double> out;
-    for (const std::string& s : strings(key)) out.push_back(number(key, s));
+    for (const std::string& s : strings(key)) {
+      try {
+        out.push_back(std::stod(s));
+      } catch (const std::exception&) {
+        bad(key);
+      }
+    }
     return out;
   }
 };
@@ -127,8 +127,8 @@ McOptions McOptions::fromKeyValues(const std::map<std::string, std::string>& kv,
   o.runs = r.uint("runs");
   o.seed = r.uint("seed");
   o.fov_deg = r.num("fov_deg");
-  o.width = static_cast<int>(r.uint("width", INT_MAX));
-  o.height = static_cast<int>(r.uint("height", INT_MAX));
+  o.width = static_cast<int>(r.uint("width"));
+  o.height = static_cast<int>(r.uint("height"));
   o.mag_limit = r.num("mag_limit");
   o.mags = r.nums("mags");
   o.fovs_deg = r.nums("fovs_deg");
