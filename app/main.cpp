@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   CLI::App root{"startracker: star images -> identified stars -> attitude with covariance, "
                 "fused with gyro rates.\nRun 'startracker <command> --help' for each command."};
   root.require_subcommand(1);
+  root.get_formatter()->label("SUBCOMMAND", "COMMAND");  // shared by every command's help
   CommandRun run;
   addAllCommands(root, run);
   cli::addCommonFlags(root, std::string("startracker ") + ST_VERSION);

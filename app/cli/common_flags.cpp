@@ -31,8 +31,10 @@ void addCommonFlags(CLI::App& root, const std::string& version_text) {
   if (!verbose.empty()) root.add_flag(verbose, "More messages: debug lines and OpenCV's warnings");
   const std::string quiet = freeNames(root, "-q", "--quiet");
   if (!quiet.empty()) root.add_flag(quiet, "Errors and warnings only: no progress bars or info lines");
-  for (CLI::App* sub : root.get_subcommands([](CLI::App*) { return true; }))
+  for (CLI::App* sub : root.get_subcommands([](CLI::App*) { return true; })) {
+    if (sub->get_group() == "Subcommands") sub->group("Commands");  // the help's heading
     addCommonFlags(*sub, version_text);
+  }
 }
 
 void applyCommonFlags(const CLI::App& root) {
