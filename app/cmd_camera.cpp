@@ -2,7 +2,9 @@
 #include <cstdio>
 
 #include "app/camera_options.hpp"
+#include "app/cli/validators.hpp"
 #include "app/command.hpp"
+#include "app/output_file.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 
@@ -13,7 +15,9 @@ void addCameraCommand(CLI::App& root, CommandRun& run) {
   auto opts = std::make_shared<CameraOptions>();
   auto size = std::make_shared<std::vector<int>>();
   opts->addTo(*cmd);
-  cmd->add_option("--size", *size, "Image size W H (needed with --fov-deg)")->expected(2);
+  cmd->add_option("--size", *size, "Image size W H (needed with --fov-deg)")
+      ->check(cli::WholeNumber(1, 1'000'000))
+      ->expected(2);
   auto out = std::make_shared<std::string>();
   cmd->add_option("--save", *out, "Write the camera as OpenCV YAML to this file");
   cmd->callback([=, &run] {
@@ -21,6 +25,7 @@ void addCameraCommand(CLI::App& root, CommandRun& run) {
       const int w = size->size() == 2 ? (*size)[0] : 0, h = size->size() == 2 ? (*size)[1] : 0;
       if (opts->fov_deg > 0 && (w <= 0 || h <= 0))
         throw InputError("--fov-deg needs --size W H with positive values");
+      if (!out->empty()) prepareOutputFile(*out, "--save");
       const CameraModel cam = opts->resolve(w, h);
       std::printf("%s\n", cam.describe().c_str());
       std::printf("pixel scale %.3f arcsec/px, half-diagonal FOV %.4f deg\n",

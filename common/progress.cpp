@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "common/log.hpp"
+
 namespace st {
 
 ProgressBar::ProgressBar(std::string label, std::size_t total, bool enabled)
     : label_(std::move(label)),
       total_(std::max<std::size_t>(total, 1)),
-      enabled_(enabled),
+      enabled_(enabled && !log::quiet()),
       tty_(isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}

@@ -1,6 +1,7 @@
 /// @file progress.hpp
 /// A text progress bar for long jobs, on stderr. On a terminal it redraws one line; when
-/// stderr is a file or pipe (CI logs) it prints a line every 10 %.
+/// stderr is a file or pipe (CI logs) it prints a line every 10 %. Silent under -q
+/// (st::log::quiet(), read when the bar is made) whatever `enabled` says.
 #pragma once
 #include <chrono>
 #include <cstddef>
