@@ -98,6 +98,10 @@ std::string plots(const std::vector<NavStep>& steps, const std::string& dir) {
     n.x.push_back(s.t);
     n.y.push_back(filtered ? s.nees : s.fix_nees);
   }
+  nees.series.push_back(n);
+  nees.ref_lines = {{chiSquareQuantile(0.025, 3), "chi2(3) 2.5 %"},
+                    {chiSquareQuantile(0.975, 3), "chi2(3) 97.5 %"}};
+  nees.log_y = true;
   Plot bias = makePlot("Gyro bias estimate", "time [s]", "bias [deg/h]");
   for (int i = 0; i < 3; ++i) {
     PlotSeries b(std::string("bias ") + "xyz"[i], PlotStyle::Lines);
@@ -143,7 +147,8 @@ void prepareOutputs(const ReplayOpts& o) {
   if (!o.output.empty()) {
     std::error_code ec;
     if (fs::equivalent(o.output, o.rawlog, ec))
-      throw InputError(o.output + ": the output rawlog must differ from the input");
+      throw InputError("-o/--output " + o.output +
+                       ": the output rawlog must differ from the input");
     prepareOutputFile(o.output, "-o/--output");
   }
   if (!o.csv.empty()) prepareOutputFile(o.csv, "--csv");

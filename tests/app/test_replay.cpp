@@ -236,9 +236,10 @@ TEST(ReplayWithoutGyro, CameraOnlyRawlogGivesRawLostInSpaceFixesAndOneWarning) {
   EXPECT_TRUE(fs::exists(dir + "/plots/error.png") || out.find("not drawn") != std::string::npos);
 }
 
-// Decided policy for a gyro that stops mid-run: the filter stays, the loop's gap logic coasts
-// on the mean of the last rates with a growing covariance and says so once; the fixes keep
-// it on the (constant-rate) slew.
+// A gyro that stops mid-run is coasted through, up to [navigator] max_gyro_coast_s (1 s; past
+// it the filter is suspended: Navigator.GyroStoppingOnATurningBodySuspendsTheFilterUntilItReturns):
+// the loop holds the mean of the last rates with a growing covariance and says so once. Here
+// the last 0.65 s of the constant-rate slew: the fixes keep the filter on it.
 TEST(ReplayWithoutGyro, GyroStoppingMidRunCoastsWithOneWarning) {
   const std::string dir = test::makeTempDir("replay_gyro_stops");
   const std::string rawlog = filteredCopy("slew_2dps", dir, "gyro_stops",
