@@ -46,6 +46,16 @@ void requireSection(const IniReader& r, const std::string& sec) {
   if (!r.cfg.sectionExists(sec)) throw InputError(r.where(sec) + ": missing section");
 }
 
+/// A section named by a [scenario] key: one the user wrote must exist (a typo must not turn
+/// into "no gyro" or default values); the default name may be absent where allowed.
+void checkNamedSection(const IniReader& r, const char* key, const std::string& sec,
+                       bool required) {
+  if (r.cfg.sectionExists(sec)) return;
+  if (r.has("scenario", key))
+    throw InputError(r.whereKey("scenario", key) + " = '" + sec + "': no section [" + sec + "]");
+  if (required) requireSection(r, sec);
+}
+
 }  // namespace
 
 ScenarioIni readScenarioIni(const IniReader& r) {
@@ -56,10 +66,14 @@ ScenarioIni readScenarioIni(const IniReader& r) {
   scenarioKeysSchema().read(r, S, k);
   if (!(k.duration_s > 0)) throw InputError(r.whereKey(S, "duration_s") + ": must be > 0");
   if (!(k.frame_rate_hz > 0)) throw InputError(r.whereKey(S, "frame_rate_hz") + ": must be > 0");
-  requireSection(r, k.camera_section);
+  if (!k.start_time.empty()) parseUtc(k.start_time, r.whereKey(S, "start_time"));
+  checkNamedSection(r, "camera_section", k.camera_section, true);
+  checkNamedSection(r, "sensor_section", k.sensor_section, false);
+  checkNamedSection(r, "motion_section", k.motion_section, true);
+  checkNamedSection(r, "gyro_section", k.gyro_section, false);
+  checkNamedSection(r, "faults_section", k.faults_section, false);
   sc.camera = CameraModel::loadIni(r, k.camera_section);
   sc.sensor = SensorParams::fromConfig(r, k.sensor_section);
-  requireSection(r, k.motion_section);
   sc.motion = readMotionKeys(r, k.motion_section);
   MotionProfile::fromKeys(sc.motion, r.where(k.motion_section));  // validates the values
   if (r.cfg.sectionExists(k.gyro_section)) {
@@ -104,6 +118,12 @@ Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const st
   };
   sc.database_path = path(k.database);
   sc.catalog_path = path(k.catalog);
+  for (const auto& [key, file] : {std::pair<const char*, const std::string&>{"database", sc.database_path},
+                                  {"catalog", sc.catalog_path}}) {
+    if (!file.empty() && !std::filesystem::is_regular_file(file))
+      throw InputError(r.whereKey("scenario", key) + " = '" + r.str("scenario", key, "") +
+                       "': no such file (" + file + ")");
+  }
   sc.mag_limit = k.mag_limit;
   sc.aberration = k.aberration;
   sc.camera = ini.camera;

@@ -1,0 +1,90 @@
+// Issue 21 item 5: a scenario value that does not parse is reported with the file, the
+// section, the key and the value, for every key of every section (the strict IniReader of
+// config/ through the section schemas), and a section or file a key names must exist.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "common/errors.hpp"
+#include "config/ini_reader.hpp"
+#include "sensors/sim/scenario.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace st {
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Loads `text` as scenario "sc.ini"; the error message, or "" when it loads.
+std::string loadError(const std::string& text) {
+  mrpt::config::CConfigFileMemory cfg(text);
+  try {
+    Scenario::fromConfig(cfg, "sc.ini", test::repoDir() + "/rawlogs");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Every key the effective configuration of the sample scenarios prints (all sections, every
+// default filled in, four motion types between them) set to 'abc'.
+TEST(ScenarioErrors, EveryKeyWithAnUnparsableValueNamesFileSectionKeyAndValue) {
+  int keys = 0;
+  for (const char* sample : {"faults_dropout.ini", "live_sim.ini", "tour_120s.ini",
+                             "one_hour_10hz.ini"}) {
+    const std::string path = test::repoDir() + "/rawlogs/" + sample;
+    mrpt::config::CConfigFileMemory cfg(readFile(path));
+    const std::string effective = printScenarioIni(readScenarioIni(IniReader{cfg, path}));
+    ASSERT_EQ(loadError(effective), "") << sample;
+
+    std::vector<std::string> lines;
+    std::istringstream in(effective);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    std::string section;
+    const std::regex header(R"(^\[(\w+)\]$)"), key_line(R"(^(\w+) =.*$)");
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      std::smatch m;
+      if (std::regex_match(lines[i], m, header)) section = m[1];
+      if (!std::regex_match(lines[i], m, key_line)) continue;
+      const std::string key = m[1];
+      std::string text;
+      for (std::size_t j = 0; j < lines.size(); ++j)
+        text += (j == i ? key + " = abc" : lines[j]) + "\n";
+      const std::string err = loadError(text);
+      ++keys;
+      SCOPED_TRACE(std::string(sample) + " [" + section + "] " + key + ": " + err);
+      EXPECT_THAT(err, ::testing::HasSubstr("sc.ini: [" + section + "]"));
+      EXPECT_THAT(err, ::testing::HasSubstr(key));
+      EXPECT_THAT(err, ::testing::HasSubstr("abc"));
+    }
+  }
+  EXPECT_GE(keys, 100);
+}
+
+// A key that names a section or a file: a typo is an error naming the key, not a silent
+// default ("no gyro", default optics) or a message about the file alone.
+TEST(ScenarioErrors, NamedSectionsAndFilesMustExist) {
+  const std::string base = readFile(test::repoDir() + "/rawlogs/faults_dropout.ini");
+  for (const char* key : {"camera_section", "sensor_section", "motion_section", "gyro_section",
+                          "faults_section", "database", "catalog"}) {
+    const std::string err =
+        loadError(std::regex_replace(base, std::regex(R"(\[scenario\])"),
+                                     std::string("[scenario]\n") + key + " = nosuch"));
+    EXPECT_THAT(err, ::testing::HasSubstr(std::string("sc.ini: [scenario] key '") + key +
+                                          "' = 'nosuch'"));
+  }
+  // The default names may be absent where the section is optional.
+  EXPECT_EQ(loadError(std::regex_replace(base, std::regex(R"(\[faults\])"), "[notfaults]")), "");
+}
+
+}  // namespace
+}  // namespace st
