@@ -58,7 +58,7 @@ PlateSolveResult solveBothParities(const std::vector<Centroid>& centroids, int w
     out.parity = p;
     out.search = search(p == Parity::Normal ? centroids : mirrorLeftRight(centroids, width));
     if (out.search.result.solved() || out.search.cpu_limit_reached) break;
-    normal_reason = out.search.result.reason;
+    if (p == Parity::Normal) normal_reason = out.search.result.reason;
   }
   if (!out.search.result.solved() && out.parities_tried == 2 && !out.search.cpu_limit_reached)
     out.search.result.reason =
