@@ -47,7 +47,6 @@ void requireDatabaseEpoch(const StarDatabase& db, const std::string& path, const
   const DatabaseParams& p = db.params();
   const ShiftParts s = epochShift(p, e.jyear);
   if (s.total() <= kEpochToleranceArcsec) return;
-  const double fov_deg = rad2deg(p.max_pair_angle) - 0.2;  // catalog build's default margin
   char b[900];
   std::snprintf(
       b, sizeof b,
@@ -55,11 +54,13 @@ void requireDatabaseEpoch(const StarDatabase& db, const std::string& path, const
       "%s: stars move up to %.1f arcsec between them (proper motion up to %.1f arcsec/yr over "
       "%.3f yr: %.1f, annual aberration: %.1f, parallax: %.2f arcsec), more than the %.0f "
       "arcsec tolerance, and a database holds no proper motions to move them. Rebuild it for "
-      "this epoch: startracker catalog build --fov-deg %.2f --mag-limit %.2f --epoch %.4f -o "
-      "NEW.db (or leave out --database to build one in memory)",
+      "this epoch: startracker catalog build --epoch %.4f -o NEW.db with the options it was "
+      "built with (pairs up to %.2f deg, V <= %.2f), or leave out --database to build one in "
+      "memory",
       e.jyear, e.source.c_str(), p.epoch_jyear, path.c_str(), s.total(),
       kMaxProperMotionArcsecPerYear, std::abs(e.jyear - p.epoch_jyear), s.proper_motion,
-      s.aberration, s.parallax, kEpochToleranceArcsec, fov_deg, p.mag_limit, e.jyear);
+      s.aberration, s.parallax, kEpochToleranceArcsec, e.jyear, rad2deg(p.max_pair_angle),
+      p.mag_limit);
   throw InputError(b);
 }
 
