@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <optional>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "app/command.hpp"
 #include "app/output_file.hpp"
 #include "app/solve/frame_input.hpp"
@@ -118,7 +120,13 @@ PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const Sta
 
 int solveAndReport(const SolveOptions& o, bool& printed) {
   const auto t_start = Clock::now();
-  if (!o.annotate.empty()) prepareOutputFile(o.annotate, "--annotate");
+  if (!o.annotate.empty()) {
+    // Both checks before the work: a finished solve must not be lost to a typo.
+    if (!cv::haveImageWriter(o.annotate))
+      throw InputError("--annotate " + o.annotate +
+                       ": not an image format OpenCV writes (use .png or .jpg)");
+    prepareOutputFile(o.annotate, "--annotate");
+  }
   o.positionHint();  // a bad hint fails before any work
   const FrameInput in = loadFrameInput(o);
   const CameraSearch cs = cameraSearch(o, in.width, in.height);

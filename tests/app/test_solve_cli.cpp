@@ -116,6 +116,10 @@ TEST(SolveCli, AnnotateToABadPathFailsBeforeAnyWork) {
   EXPECT_NE(out.find("--annotate"), std::string::npos) << out;
   EXPECT_EQ(out.find("boresight"), std::string::npos) << "worked before failing: " << out;
   EXPECT_LT(s, 2.0) << "the FOV search takes seconds: it must not run";
+  EXPECT_EQ(test::runCommand(test::startrackerExe() + " solve --annotate " + dir + "/out.txt " +
+                                 realFrame(), &out), 2) << out;
+  EXPECT_NE(out.find("out.txt"), std::string::npos) << out;
+  EXPECT_EQ(out.find("boresight"), std::string::npos) << "worked before failing: " << out;
 }
 
 TEST(SolveCli, AnnotateWritesThePictureAfterPrintingTheSolution) {
