@@ -45,7 +45,9 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool isFits(const std::string& path) {
+}  // namespace
+
+bool isFitsPath(const std::string& path) {
   const std::string p = lower(path);
   for (const char* ext : {".fits", ".fit", ".fts", ".fits.gz", ".fit.gz", ".fts.gz"}) {
     const std::string e = ext;
@@ -53,6 +55,8 @@ bool isFits(const std::string& path) {
   }
   return false;
 }
+
+namespace {
 
 LoadedImage loadFits(const std::string& path) {
   fitsfile* f = nullptr;
@@ -131,7 +135,7 @@ cv::Mat readQuietly(const std::string& path) {
 }  // namespace
 
 LoadedImage loadImage(const std::string& path) {
-  if (isFits(path)) return loadFits(path);
+  if (isFitsPath(path)) return loadFits(path);
   cv::Mat raw = readQuietly(path);
   if (raw.empty()) {
     std::FILE* f = std::fopen(path.c_str(), "rb");

@@ -160,12 +160,6 @@ StarList loadFitsTable(const std::string& path) {
   return out;
 }
 
-bool isFitsName(const std::string& p) {
-  for (const char* e : {".fits", ".fit", ".fts", ".fits.gz", ".fit.gz", ".fts.gz"})
-    if (endsWith(p, e)) return true;
-  return false;
-}
-
 /// A FITS file with an empty primary HDU followed by a binary table.
 bool isFitsTable(const std::string& path) {
   fitsfile* f = nullptr;
@@ -185,7 +179,7 @@ bool isFitsTable(const std::string& path) {
 bool isStarList(const std::string& path) {
   const std::string p = lower(path);
   if (endsWith(p, ".csv") || endsWith(p, ".xyls") || endsWith(p, ".axy")) return true;
-  return isFitsName(p) && isFitsTable(path);
+  return isFitsPath(path) && isFitsTable(path);
 }
 
 StarList loadStarList(const std::string& path) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
@@ -111,6 +112,12 @@ TEST(SolveStarList, FitsTableGivesTheImagesAttitude) {
   EXPECT_EQ(list.json.at("epoch_source"), "DATE-OBS");
   // Float columns: positions rounded to ~3e-5 px, far below the 0.2 px residuals.
   EXPECT_LT(test::attitudeDifferenceArcsec(img.json, list.json), 3.0);
+  // Named .fits, the table is told from an image by its content.
+  const std::string fits = xyls.substr(0, xyls.size() - 5) + ".fits";
+  std::filesystem::copy_file(xyls, fits);
+  const auto named_fits = test::solveJson("--fov-deg 11.4 " + fits);
+  ASSERT_EQ(named_fits.rc, 0) << named_fits.stdout_text;
+  EXPECT_EQ(named_fits.json.at("input"), "star list");
 }
 
 TEST(SolveStarList, BadListsNameTheFileAndWhatIsMissing) {
