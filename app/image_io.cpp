@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <regex>
 #include <vector>
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -43,7 +45,9 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool isFits(const std::string& path) {
+}  // namespace
+
+bool isFitsPath(const std::string& path) {
   const std::string p = lower(path);
   for (const char* ext : {".fits", ".fit", ".fts", ".fits.gz", ".fit.gz", ".fts.gz"}) {
     const std::string e = ext;
@@ -51,6 +55,8 @@ bool isFits(const std::string& path) {
   }
   return false;
 }
+
+namespace {
 
 LoadedImage loadFits(const std::string& path) {
   fitsfile* f = nullptr;
@@ -111,10 +117,32 @@ LoadedImage loadFits(const std::string& path) {
 
 }  // namespace
 
+namespace {
+/// OpenCV logs its own warning for a file it cannot decode; the InputError below says it in
+/// the project's words, once.
+cv::Mat readQuietly(const std::string& path) {
+  namespace logging = cv::utils::logging;
+  const logging::LogLevel before = logging::setLogLevel(logging::LOG_LEVEL_ERROR);
+  cv::Mat raw;
+  try {
+    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    raw.release();
+  }
+  logging::setLogLevel(before);
+  return raw;
+}
+}  // namespace
+
 LoadedImage loadImage(const std::string& path) {
-  if (isFits(path)) return loadFits(path);
-  cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (raw.empty()) throw InputError(path + ": cannot read image (PNG, JPEG, TIFF or FITS)");
+  if (isFitsPath(path)) return loadFits(path);
+  cv::Mat raw = readQuietly(path);
+  if (raw.empty()) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw InputError(path + ": cannot open the image (no such file, or not readable)");
+    std::fclose(f);
+    throw InputError(path + ": cannot read image (PNG, JPEG, TIFF or FITS)");
+  }
   cv::Mat grey;
   if (raw.channels() == 3)
     cv::cvtColor(raw, grey, cv::COLOR_BGR2GRAY);

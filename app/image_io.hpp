@@ -17,6 +17,9 @@ struct LoadedImage {
   std::string epoch_source;           ///< where the epoch came from ("DATE-OBS", "file name")
 };
 
+/// True for the FITS file names (.fits, .fit, .fts, also gzipped), any case.
+bool isFitsPath(const std::string& path);
+
 /// Throws InputError naming the file when it cannot be read.
 LoadedImage loadImage(const std::string& path);
 

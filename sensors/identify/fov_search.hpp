@@ -6,6 +6,10 @@
 /// the focal length (least squares, principal point at the centre, square pixels), and the
 /// identification is repeated with the fitted camera and no scale slack.
 #pragma once
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "sensors/identify/identifier.hpp"
@@ -25,12 +29,27 @@ std::vector<double> fovSearchGrid(double min_hfov, double max_hfov, double scale
 CameraModel fitFocalLength(const CameraModel& cam, const std::vector<StarObservation>& obs,
                            const IdentifyResult& r, const StarDatabase& db);
 
+/// What a search may accept and how long it may run (solve's --ra/--dec/--radius and
+/// --cpulimit). The default accepts every verified solution and never stops early.
+struct SearchLimits {
+  /// Returns "" to accept a verified solution, else why it is refused (e.g. outside the
+  /// position hint); a refused solution counts as a failure and the search goes on.
+  std::function<std::string(const IdentifyResult&)> refuse;
+  std::optional<std::chrono::steady_clock::time_point> deadline;
+  bool expired() const { return deadline && std::chrono::steady_clock::now() >= *deadline; }
+};
+
+/// The reason a search gives when SearchLimits::deadline stopped it.
+constexpr const char* kCpuLimitReason = "cpu limit reached";
+
 struct FovSearchResult {
   IdentifyResult result;             ///< of the final (fitted-camera) identification
   CameraModel camera;                ///< fitted camera (or the last one tried)
   std::vector<StarObservation> obs;  ///< observations with that camera
   int fovs_tried = 0;
   double search_ms = 0;              ///< total time of all tries [ms]
+  bool cpu_limit_reached = false;    ///< the deadline stopped the search before its end
+  std::string refused;               ///< why SearchLimits::refuse turned down the last solution
 };
 
 /// `identifier` options are used as given except scale_tolerance (set per try).
@@ -40,13 +59,13 @@ FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int w
                                    int height, const StarDatabase& db,
                                    StarIdentifier& identifier,
                                    const std::vector<double>& hfov_grid, double scale_tolerance,
-                                   double min_sigma_px = 0.02);
+                                   double min_sigma_px = 0.02, const SearchLimits& limits = {});
 
 /// Identify with a known camera, then (if `fit_focal` and solved) fit the focal length and
 /// identify again; used by identifyUnknownFov and for a camera from --fov-deg.
 FovSearchResult identifyAndFit(const std::vector<Centroid>& centroids, const CameraModel& cam,
                                const StarDatabase& db, StarIdentifier& identifier,
                                double scale_tolerance, bool fit_focal,
-                               double min_sigma_px = 0.02);
+                               double min_sigma_px = 0.02, const SearchLimits& limits = {});
 
 }  // namespace st

@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
 
+#include "tests/app/solve_cli_util.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
@@ -67,6 +68,68 @@ TEST(SolveCli, BadInputExitsTwoNamingTheFile) {
                              &out),
             2)
       << out;
+}
+
+TEST(SolveCli, JsonEscapesFileNamesWithQuotesAndBackslashes) {
+  const std::string name = test::makeTempDir("solve_quote") + "/a \"quoted\" \\ name.tiff";
+  std::ifstream src(realFrame(), std::ios::binary);
+  std::ofstream(name, std::ios::binary) << src.rdbuf();
+  const auto r = test::solveJson("--fov-deg 11.4 " + test::shellQuote(name));
+  ASSERT_EQ(r.rc, 0) << r.stdout_text;
+  ASSERT_FALSE(r.json.is_null()) << "not valid JSON: " << r.stdout_text;
+  EXPECT_EQ(r.json.at("image"), name);
+  // A not-solved answer carries the reason and the name, escaped too.
+  const std::string black = test::makeTempDir("solve_quote") + "/black \"\\.png";
+  cv::imwrite(black, cv::Mat::zeros(480, 640, CV_8UC1));
+  const auto nr = test::solveJson("--fov-deg 10 " + test::shellQuote(black));
+  EXPECT_EQ(nr.rc, 1) << nr.stdout_text;
+  ASSERT_FALSE(nr.json.is_null()) << "not valid JSON: " << nr.stdout_text;
+  EXPECT_EQ(nr.json.at("image"), black);
+  EXPECT_EQ(nr.json.at("exit_code"), 1);
+}
+
+TEST(SolveCli, JsonInputErrorsPrintOneErrorObjectAndExitTwo) {
+  const std::string dir = test::makeTempDir("solve_jsonerr");
+  std::ofstream(dir + "/garbage \"x\".png") << "not an image";
+  for (const std::string& args :
+       {"--fov-deg 10 " + test::shellQuote(dir + "/garbage \"x\".png"),
+        "--fov-deg 10 --database " + dir + "/none.db " + realFrame(),
+        "--camera " + dir + "/nocam.yaml " + realFrame()}) {
+    const auto r = test::solveJson(args);
+    EXPECT_EQ(r.rc, 2) << args << ": " << r.stdout_text;
+    ASSERT_FALSE(r.json.is_null()) << args << ": not one JSON object: " << r.stdout_text;
+    EXPECT_EQ(r.json.at("solved"), false);
+    EXPECT_EQ(r.json.at("exit_code"), 2);
+    EXPECT_FALSE(r.json.at("error").get<std::string>().empty());
+  }
+}
+
+TEST(SolveCli, AnnotateToABadPathFailsBeforeAnyWork) {
+  const std::string dir = test::makeTempDir("solve_annot");
+  std::ofstream(dir + "/file") << "a file, not a folder";
+  std::string out;
+  EXPECT_EQ(test::runCommand(test::startrackerExe() + " solve --annotate " + dir +
+                                 "/file/out.png " + realFrame(), &out), 2) << out;
+  EXPECT_NE(out.find("--annotate"), std::string::npos) << out;
+  EXPECT_EQ(out.find("boresight"), std::string::npos) << "worked before failing: " << out;
+  // Checked before anything is read: a missing image is not even noticed.
+  EXPECT_EQ(test::runCommand(test::startrackerExe() + " solve --annotate " + dir +
+                                 "/file/out.png /no/such/image.png", &out), 2) << out;
+  EXPECT_NE(out.find("--annotate"), std::string::npos) << out;
+  EXPECT_EQ(test::runCommand(test::startrackerExe() + " solve --annotate " + dir + "/out.txt " +
+                                 realFrame(), &out), 2) << out;
+  EXPECT_NE(out.find("out.txt"), std::string::npos) << out;
+  EXPECT_EQ(out.find("boresight"), std::string::npos) << "worked before failing: " << out;
+}
+
+TEST(SolveCli, AnnotateWritesThePictureAfterPrintingTheSolution) {
+  const std::string png = test::makeTempDir("solve_annot_ok") + "/new/folder/solved.png";
+  std::string out;
+  ASSERT_EQ(test::runCommand(test::startrackerExe() + " solve --fov-deg 11.4 --annotate " + png +
+                                 " " + realFrame(), &out), 0) << out;
+  EXPECT_NE(out.find("boresight"), std::string::npos) << out;
+  const cv::Mat img = cv::imread(png);
+  EXPECT_EQ(img.cols, 1024);
 }
 
 }  // namespace

@@ -1,0 +1,96 @@
+// `startracker solve`'s flags (CLI11) and their checks.
+#include "app/solve/solve_options.hpp"
+
+#include <memory>
+
+#include "app/command.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "sensors/attitude/wahba.hpp"
+
+namespace st::app {
+
+ParityChoice SolveOptions::parityChoice() const {
+  if (parity == "normal") return ParityChoice::Normal;
+  if (parity == "flipped") return ParityChoice::Flipped;
+  return ParityChoice::Both;
+}
+
+std::optional<PositionHint> SolveOptions::positionHint() const {
+  const int given = int(!std::isnan(ra_deg)) + int(!std::isnan(dec_deg)) + int(!std::isnan(radius_deg));
+  if (given == 0) return std::nullopt;
+  if (given != 3)
+    throw InputError("--ra, --dec and --radius go together: the hint is a circle on the sky");
+  if (!(ra_deg >= 0 && ra_deg <= 360))
+    throw InputError("--ra " + std::to_string(ra_deg) + ": must be in [0, 360] deg");
+  if (!(dec_deg >= -90 && dec_deg <= 90))
+    throw InputError("--dec " + std::to_string(dec_deg) + ": must be in [-90, 90] deg");
+  if (!(radius_deg > 0 && radius_deg <= 180))
+    throw InputError("--radius " + std::to_string(radius_deg) + ": must be in (0, 180] deg");
+  return PositionHint{deg2rad(ra_deg), deg2rad(dec_deg), deg2rad(radius_deg)};
+}
+
+namespace {
+void addSearchOptions(CLI::App& cmd, SolveOptions& o) {
+  cmd.add_option("--parity", o.parity,
+                 "Image parity: normal, flipped (mirrored left-right, e.g. a bottom-up FITS), "
+                 "or both (normal first, flipped only when normal fails)")
+      ->check(CLI::IsMember({"normal", "flipped", "both"}))
+      ->capture_default_str();
+  cmd.add_option("--ra", o.ra_deg, "Position hint: RA of the boresight [deg] (with --dec, --radius)");
+  cmd.add_option("--dec", o.dec_deg, "Position hint: Dec of the boresight [deg]");
+  cmd.add_option("--radius", o.radius_deg,
+                 "Position hint: accept only a boresight within this radius [deg]");
+  cmd.add_option("--cpulimit", o.cpulimit_s,
+                 "Give up after this many seconds (checked between FOV and parity tries)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--width", o.width, "Image width [px] of a star list (CSV or FITS table)")
+      ->check(CLI::Range(1, 1000000));
+  cmd.add_option("--height", o.height, "Image height [px] of a star list")
+      ->check(CLI::Range(1, 1000000));
+}
+}  // namespace
+
+void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
+  auto* cmd = root.add_subcommand(
+      "solve", "Lost-in-space: detect, identify and solve the attitude of one image");
+  auto o = std::make_shared<SolveOptions>();
+  cmd->add_option("IMAGE", o->input,
+                  "PNG, JPEG, TIFF (8/16-bit) or FITS image; or a star list instead of an "
+                  "image: CSV with a header line and columns x,y[,flux] (pixels, 0-based), or "
+                  "a FITS table with columns X, Y[, FLUX] (1-based, as solve-field's xylist)")
+      ->required();
+  o->camera.addTo(*cmd);
+  cmd->add_option("--database", o->database,
+                  "Star database from `startracker catalog build` (default: build one in memory "
+                  "from the committed Hipparcos subset)");
+  std::string algo_help = "Identification algorithm:\n" + StarIdentifier::help();
+  cmd->add_option("--algorithm", o->algorithm, algo_help)
+      ->check(CLI::IsMember(StarIdentifier::names()))
+      ->capture_default_str();
+  cmd->add_option("--solver", o->solver, "Wahba solver")
+      ->check(CLI::IsMember(WahbaSolver::names()))
+      ->capture_default_str();
+  cmd->add_flag("--json", o->json, "Print one JSON object (also for an error)");
+  cmd->add_option("--annotate", o->annotate,
+                  "Write a labelled PNG of the solved frame (blobs circled, stars named)");
+  cmd->add_option("--fov-range", o->fov_range_deg,
+                  "Horizontal FOV range [deg] searched when neither --camera nor --fov-deg")
+      ->expected(2)
+      ->capture_default_str();
+  cmd->add_option("--mag-limit", o->mag_limit, "V limit of the in-memory database")
+      ->capture_default_str();
+  cmd->add_option("--epoch", o->epoch,
+                  "Observation epoch [Julian year] (default: from FITS DATE-OBS or the file "
+                  "name, else the --database's epoch, else today)");
+  cmd->add_option("--max-stars", o->max_stars, "Brightest stars used to form patterns")
+      ->check(CLI::Range(4, 100))
+      ->capture_default_str();
+  cmd->add_option("--min-sigma-px", o->min_sigma_px,
+                  "Floor of the centroid 1-sigma [px]: camera-model error (default 0.5 without a "
+                  "camera file, 0.1 with one)");
+  addSearchOptions(*cmd, *o);
+  cmd->callback([o, &run_fn] { run_fn = [o] { return runSolve(*o); }; });
+}
+
+}  // namespace st::app

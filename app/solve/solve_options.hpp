@@ -1,0 +1,48 @@
+/// @file solve_options.hpp
+/// The options of `startracker solve` and the one entry that runs it. The command is split
+/// by concern: solve_options.cpp (flags), frame_input.* (image or star list -> centroids),
+/// star_list.* (CSV / FITS table reader), solve_epoch.* (which epoch, and whether a star
+/// database file fits it), solve_run.cpp (the pipeline), solve_output.* (text and JSON).
+#pragma once
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/camera_options.hpp"
+#include "sensors/identify/identifier.hpp"
+#include "sensors/identify/plate_solve.hpp"
+
+namespace st::app {
+
+struct SolveOptions {
+  std::string input;  ///< image, or a star list (CSV x,y,flux or a FITS table X,Y,FLUX)
+  CameraOptions camera;
+  std::string database;
+  std::string algorithm = StarIdentifier::defaultName();
+  std::string solver = "quest";
+  bool json = false;
+  std::vector<double> fov_range_deg = {5.0, 30.0};
+  double mag_limit = 6.6;
+  double epoch = 0;  ///< 0 = from the image (else the database's, else today)
+  int max_stars = 12;
+  double min_sigma_px = -1;  ///< <0: 0.5 px without a camera file, 0.1 px with one
+  std::string annotate;      ///< PNG path for a labelled picture of the solved frame
+  std::string parity = "both";
+  double ra_deg = NAN, dec_deg = NAN, radius_deg = NAN;  ///< position hint (all or none)
+  double cpulimit_s = 0;                                 ///< 0 = no limit
+  int width = 0, height = 0;                             ///< image size of a star list
+
+  /// The parity flag as the search takes it.
+  ParityChoice parityChoice() const;
+  /// The hint when --ra/--dec/--radius are given; InputError when only some are, or a value
+  /// is out of range.
+  std::optional<PositionHint> positionHint() const;
+};
+
+/// Runs the command: 0 solved, 1 not solved, InputError (exit 2) on bad input. With --json
+/// stdout receives exactly one JSON object, also when an error ends the run (see
+/// solve_output.hpp for the schema).
+int runSolve(const SolveOptions& o);
+
+}  // namespace st::app

@@ -1,0 +1,159 @@
+#include "app/solve/solve_output.hpp"
+
+#include <cstdio>
+
+#include "app/annotate.hpp"
+#include "common/conventions.hpp"
+
+namespace st::app {
+
+std::string catalogIdLabel(const std::string& catalog_name) {
+  if (catalog_name.rfind("Hipparcos", 0) == 0) return "HIP";
+  if (catalog_name.find("Bright Star") != std::string::npos) return "HR";
+  if (catalog_name.find("Tycho") != std::string::npos) return "TYC";
+  return "ID";
+}
+
+namespace {
+
+std::string idLabel(const SolveReport& r) { return catalogIdLabel(r.db.report().catalog_name); }
+
+/// Matched star k's pixel in the input (the un-mirrored obs pixel of a flipped solution is
+/// not where the star is in the image).
+const Vec2& inputPixel(const SolveReport& r, const StarMatch& m) { return r.in.stars[m.obs_index].px; }
+
+nlohmann::ordered_json starsJson(const SolveReport& r) {
+  nlohmann::ordered_json stars = nlohmann::ordered_json::array();
+  const std::string label = idLabel(r);
+  for (const StarMatch& m : r.ps.search.result.matches) {
+    const Vec2& px = inputPixel(r, m);
+    stars.push_back({{"id", m.catalog_id},
+                     {"name", label + " " + std::to_string(m.catalog_id)},
+                     {"x", px.x()},
+                     {"y", px.y()},
+                     {"mag", r.db.stars()[m.star_index].mag},
+                     {"residual_arcsec", rad2arcsec(m.residual)},
+                     {"residual_px", m.residual_px}});
+  }
+  return stars;
+}
+
+}  // namespace
+
+nlohmann::ordered_json solutionJson(const SolveReport& r) {
+  const IdentifyResult& res = r.ps.search.result;
+  const RaDecRoll rdr = raDecRollFromAttitude(res.q_ic);
+  const AttitudeSigma sig = attitudeSigma(res.cov_cam);
+  const Quat q = canonical(res.q_ic);  // no mounting: the body frame is the camera frame
+  nlohmann::ordered_json cov = nlohmann::ordered_json::array();
+  for (int i = 0; i < 3; ++i)
+    cov.push_back({res.cov_cam(i, 0), res.cov_cam(i, 1), res.cov_cam(i, 2)});
+  nlohmann::ordered_json j = {
+      {"solved", true}, {"image", r.o.input}, {"input", r.in.star_list ? "star list" : "image"},
+      {"parity", toString(r.ps.parity)}, {"ra_deg", rad2deg(rdr.ra)}, {"dec_deg", rad2deg(rdr.dec)},
+      {"roll_deg", rad2deg(rdr.roll)}, {"q_ib", {q.w(), q.x(), q.y(), q.z()}}, {"covariance", cov},
+      {"sigma_cross_boresight_arcsec", rad2arcsec(sig.cross_boresight)},
+      {"sigma_roll_arcsec", rad2arcsec(sig.roll)},
+      {"hfov_deg", rad2deg(r.ps.search.camera.horizontalFov())}, {"algorithm", res.algorithm},
+      {"solver", r.o.solver}, {"stars_detected", r.in.stars.size()},
+      {"stars_matched", res.matches.size()}, {"rms_residual_arcsec", rad2arcsec(res.rms_residual)},
+      {"rms_residual_px", res.rms_residual_px},
+      {"false_match_probability", res.false_match_probability},
+      {"hypotheses_tried", res.hypotheses_tried}, {"fovs_tried", r.ps.search.fovs_tried},
+      {"epoch_jyear", r.epoch.jyear}, {"epoch_source", r.epoch.source},
+      {"database", r.db_source}, {"database_epoch_jyear", r.db.params().epoch_jyear},
+      {"catalog", r.db.report().catalog_name}, {"catalog_id", idLabel(r)}};
+  j["stars"] = starsJson(r);
+  j["timing_ms"] = {{"load", r.ms.load},         {"detect", r.ms.detect},
+                    {"database", r.ms.database}, {"identify", r.ms.identify},
+                    {"pattern", res.timing.pattern_ms}, {"verify", res.timing.verify_ms},
+                    {"total", r.ms.total}};
+  return j;
+}
+
+nlohmann::ordered_json failureJson(const SolveReport& r) {
+  const IdentifyResult& res = r.ps.search.result;
+  return {{"solved", false},
+          {"status", res.solved() ? "error" : toString(res.status)},
+          {"reason", r.failure},
+          {"image", r.o.input},
+          {"stars_detected", r.in.stars.size()},
+          {"parities_tried", r.ps.parities_tried},
+          {"cpu_limit_reached", r.ps.search.cpu_limit_reached},
+          {"exit_code", 1}};
+}
+
+nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {
+  return {{"solved", false}, {"status", "error"}, {"error", message}, {"exit_code", exit_code}};
+}
+
+void printJson(const nlohmann::ordered_json& j) {
+  // Invalid UTF-8 in a file name must not abort the one line a script waits for.
+  std::printf("%s\n", j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
+  std::fflush(stdout);
+}
+
+void printSolutionText(const SolveReport& r) {
+  const IdentifyResult& res = r.ps.search.result;
+  const CameraModel& cam = r.ps.search.camera;
+  const RaDecRoll rdr = raDecRollFromAttitude(res.q_ic);
+  const AttitudeSigma sig = attitudeSigma(res.cov_cam);
+  const Quat q = canonical(res.q_ic);
+  std::printf("%-10s %s (%dx%d), %zu stars %s\n", r.in.star_list ? "star list" : "image",
+              r.o.input.c_str(), r.in.width, r.in.height, r.in.stars.size(),
+              r.in.star_list ? "listed" : "detected");
+  std::printf("database   %s: %zu stars, epoch %.2f, %s\n", r.db_source.c_str(),
+              r.db.stars().size(), r.db.params().epoch_jyear, r.db.report().catalog_name.c_str());
+  std::printf("camera     %s (HFOV %.4f deg%s)\n", cam.describe().c_str(),
+              rad2deg(cam.horizontalFov()), r.focal_fitted ? ", focal length fitted" : "");
+  std::printf("solved     %s + %s, %d hypotheses, %d FOV(s) tried, false-match P %.2e\n",
+              res.algorithm.c_str(), r.o.solver.c_str(), res.hypotheses_tried,
+              r.ps.search.fovs_tried, res.false_match_probability);
+  std::printf("parity     %s%s\n", toString(r.ps.parity),
+              r.ps.parity == Parity::Flipped ? " (image mirrored left-right; the attitude is "
+                                               "the un-mirrored camera's)"
+                                             : "");
+  std::printf("q_ib       [w x y z] = [%.9f %.9f %.9f %.9f]\n", q.w(), q.x(), q.y(), q.z());
+  std::printf("boresight  RA %.5f deg  Dec %+.5f deg  roll %.5f deg\n", rad2deg(rdr.ra),
+              rad2deg(rdr.dec), rad2deg(rdr.roll));
+  std::printf("1-sigma    cross-boresight %.2f arcsec, roll %.2f arcsec\n",
+              rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll));
+  std::printf("residual   RMS %.2f arcsec = %.3f px over %zu stars\n", rad2arcsec(res.rms_residual),
+              res.rms_residual_px, res.matches.size());
+  std::printf("\n  %8s %9s %9s %6s %9s %7s\n", idLabel(r).c_str(), "x [px]", "y [px]", "V",
+              "res [\"]", "res[px]");
+  for (const StarMatch& m : res.matches) {
+    const Vec2& px = inputPixel(r, m);
+    std::printf("  %8u %9.2f %9.2f %6.2f %9.2f %7.3f\n", m.catalog_id, px.x(), px.y(),
+                r.db.stars()[m.star_index].mag, rad2arcsec(m.residual), m.residual_px);
+  }
+  std::printf("\ntiming [ms]  load %.2f  detect %.2f  database %.2f  identify %.2f "
+              "(pattern %.2f, verify %.2f)  total %.2f\n",
+              r.ms.load, r.ms.detect, r.ms.database, r.ms.identify, res.timing.pattern_ms,
+              res.timing.verify_ms, r.ms.total);
+  std::fflush(stdout);
+}
+
+void writeSolveAnnotation(const SolveReport& r, const std::string& path) {
+  const IdentifyResult& res = r.ps.search.result;
+  std::vector<Vec2> detections;
+  for (const Centroid& c : r.in.stars) detections.push_back(c.px);
+  std::vector<LabelledStar> identified;
+  const std::string label = idLabel(r);
+  for (const StarMatch& m : res.matches)
+    identified.push_back({inputPixel(r, m), label + " " + std::to_string(m.catalog_id)});
+  const RaDecRoll rdr = raDecRollFromAttitude(res.q_ic);
+  const AttitudeSigma sig = attitudeSigma(res.cov_cam);
+  char l1[160], l2[160];
+  std::snprintf(l1, sizeof l1, "RA %.4f  Dec %+.4f  roll %.3f deg%s", rad2deg(rdr.ra),
+                rad2deg(rdr.dec), rad2deg(rdr.roll),
+                r.ps.parity == Parity::Flipped ? "  (flipped parity)" : "");
+  std::snprintf(l2, sizeof l2, "1-sigma %.1f\" cross-boresight, %.1f\" roll; %zu/%zu stars, RMS %.2f px",
+                rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll), res.matches.size(),
+                r.in.stars.size(), res.rms_residual_px);
+  const cv::Mat canvas =
+      r.in.image.empty() ? cv::Mat::zeros(r.in.height, r.in.width, CV_8UC1) : r.in.image;
+  writeAnnotatedFrame(path, canvas, detections, identified, {l1, l2});
+}
+
+}  // namespace st::app

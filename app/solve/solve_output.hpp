@@ -1,0 +1,63 @@
+/// @file solve_output.hpp
+/// What `solve` prints: the text report, or with --json exactly one JSON object on stdout
+/// (built with nlohmann::ordered_json, so any file name or message is escaped). JSON schema:
+///  - solved (exit 0): {"solved": true, "image", "input": "image"|"star list", "parity":
+///    "normal"|"flipped", "ra_deg", "dec_deg", "roll_deg", "q_ib": [w,x,y,z], "covariance"
+///    (3x3, rad^2, camera frame), "sigma_cross_boresight_arcsec", "sigma_roll_arcsec",
+///    "hfov_deg", "algorithm", "solver", "stars_detected", "stars_matched",
+///    "rms_residual_arcsec", "rms_residual_px", "false_match_probability",
+///    "hypotheses_tried", "fovs_tried", "epoch_jyear", "epoch_source", "database",
+///    "database_epoch_jyear", "catalog" (the catalog's name), "catalog_id" ("HIP", "HR"),
+///    "stars": [{"id", "name" (e.g. "HR 5340"), "x", "y", "mag", "residual_arcsec",
+///    "residual_px"}] (x, y in the input's pixels, also for a flipped image), "timing_ms":
+///    {"load", "detect", "database", "identify", "pattern", "verify", "total"}};
+///  - not solved (exit 1): {"solved": false, "status" (IdentifyStatus or "error"),
+///    "reason", "image", "stars_detected", "parities_tried", "cpu_limit_reached",
+///    "exit_code": 1};
+///  - an error ended the run: {"solved": false, "status": "error", "error": message,
+///    "exit_code": 2 for bad input (file, flag, value), 1 otherwise}.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/solve/frame_input.hpp"
+#include "app/solve/solve_epoch.hpp"
+#include "app/solve/solve_options.hpp"
+#include "catalog/star_database.hpp"
+#include "sensors/identify/plate_solve.hpp"
+
+namespace st::app {
+
+struct SolveTimings {
+  double load = 0, detect = 0, database = 0, identify = 0, total = 0;  ///< [ms]
+};
+
+/// Everything one run of `solve` reports.
+struct SolveReport {
+  const SolveOptions& o;
+  const FrameInput& in;
+  const StarDatabase& db;
+  std::string db_source;  ///< the --database path, or how the in-memory one was built
+  SolveEpoch epoch;
+  PlateSolveResult ps;
+  std::string failure;  ///< empty when solved
+  bool focal_fitted = true;
+  SolveTimings ms;
+};
+
+/// "HIP" for Hipparcos, "HR" for the Bright Star Catalogue, "TYC" for Tycho, else "ID":
+/// from the catalog name a database records (BuildReport::catalog_name).
+std::string catalogIdLabel(const std::string& catalog_name);
+
+void printSolutionText(const SolveReport& r);
+nlohmann::ordered_json solutionJson(const SolveReport& r);
+nlohmann::ordered_json failureJson(const SolveReport& r);
+nlohmann::ordered_json errorJson(const std::string& message, int exit_code);
+/// One line on stdout.
+void printJson(const nlohmann::ordered_json& j);
+
+/// The annotated picture of a solved frame (the image, or a black frame for a star list).
+void writeSolveAnnotation(const SolveReport& r, const std::string& path);
+
+}  // namespace st::app

@@ -1,0 +1,52 @@
+/// @file solve_cli_util.hpp
+/// Running `startracker solve` from a test and reading its one JSON object.
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "common/attitude.hpp"
+#include "common/conventions.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace st::test {
+
+inline std::string tetra3Frame(const std::string& name = "2019-07-29T204726_Alt40_Azi-135_Try1") {
+  return tetra3ImageDir() + "/" + name + ".tiff";
+}
+
+/// Single-quoted for the shell (a ' inside becomes '\'').
+inline std::string shellQuote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+struct SolveRun {
+  int rc = -1;
+  std::string stdout_text;
+  nlohmann::json json;  ///< null when stdout is not one JSON object
+};
+
+/// `startracker solve ARGS --json`, stderr dropped; parses stdout.
+inline SolveRun solveJson(const std::string& args) {
+  SolveRun r;
+  r.rc = runCommand("(" + startrackerExe() + " solve --json " + args + " 2>/dev/null)",
+                    &r.stdout_text);
+  r.json = nlohmann::json::parse(r.stdout_text, nullptr, /*allow_exceptions=*/false);
+  if (r.json.is_discarded()) r.json = nullptr;
+  return r;
+}
+
+inline Quat quatOf(const nlohmann::json& j) {
+  const auto& q = j.at("q_ib");
+  return Quat(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>());
+}
+
+/// Angle [arcsec] between the attitudes of two solved JSON objects.
+inline double attitudeDifferenceArcsec(const nlohmann::json& a, const nlohmann::json& b) {
+  return rad2arcsec(quatOf(a).angularDistance(quatOf(b)));
+}
+
+}  // namespace st::test
