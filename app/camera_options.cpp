@@ -1,5 +1,7 @@
 #include "app/camera_options.hpp"
 
+#include "app/cli/validators.hpp"
+
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 
@@ -11,19 +13,10 @@ void CameraOptions::addTo(CLI::App& cmd) {
                              "image_width, image_height) or MRPT .ini (see --camera-section)");
   cmd.add_option("--camera-section", camera_section, "Section of an .ini camera file")
       ->capture_default_str();
-  // CLI::Range lets NaN through (every comparison with NaN is false): check it by hand.
-  const CLI::Validator fov_range(
-      [](std::string& in) -> std::string {
-        double v = 0;
-        if (!CLI::detail::lexical_cast(in, v) || !(v >= 0.1 && v <= 179.0))
-          return "'" + in + "' is not a field of view in [0.1, 179] deg";
-        return {};
-      },
-      "FLOAT in [0.1, 179]");
   cmd.add_option("--fov-deg", fov_deg,
                  "Horizontal field of view [deg]: the image width's angle (principal point at "
                  "the centre)")
-      ->check(fov_range)
+      ->check(cli::Number(0.1, 179))
       ->excludes(cam);
 }
 

@@ -6,7 +6,7 @@
 
 namespace st::app::cli {
 
-nlohmann::json errorJson(const std::string& message, int exit_code) {
+nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {
   return {{"error", message}, {"exit_code", exit_code}};
 }
 
@@ -24,7 +24,7 @@ int reportFailure(const std::string& message, int exit_code, bool json) {
     // A message from a file or a value the user gave may hold bytes that are not UTF-8:
     // replace them rather than throw while reporting.
     const std::string text =
-        errorJson(message, exit_code).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+        errorJson(message, exit_code).dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
     std::printf("%s\n", text.c_str());
     std::fflush(stdout);
   }

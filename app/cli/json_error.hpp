@@ -16,7 +16,7 @@
 namespace st::app::cli {
 
 /// {"error": message, "exit_code": exit_code}
-nlohmann::json errorJson(const std::string& message, int exit_code);
+nlohmann::ordered_json errorJson(const std::string& message, int exit_code);
 
 /// True when `--json` is among `args` (before a `--` that ends the options), whether or not
 /// the command line parsed: a script that asked for JSON gets JSON for a parse error too.

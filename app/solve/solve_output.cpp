@@ -1,5 +1,7 @@
 #include "app/solve/solve_output.hpp"
 
+#include "app/cli/json_error.hpp"
+
 #include <cstdio>
 
 #include "app/annotate.hpp"
@@ -84,7 +86,10 @@ nlohmann::ordered_json failureJson(const SolveReport& r) {
 }
 
 nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {
-  return {{"solved", false}, {"status", "error"}, {"error", message}, {"exit_code", exit_code}};
+  // The command line's error object (app/cli/json_error), with solve's own two keys first.
+  nlohmann::ordered_json j = {{"solved", false}, {"status", "error"}};
+  j.update(cli::errorJson(message, exit_code));
+  return j;
 }
 
 void printJson(const nlohmann::ordered_json& j) {

@@ -17,6 +17,7 @@
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/log.hpp"
 #include "sensors/attitude/wahba.hpp"
 #include "sensors/identify/fov_search.hpp"
 
@@ -168,11 +169,16 @@ int runSolve(const SolveOptions& o) {
   try {
     return solveAndReport(o, printed);
   } catch (const InputError& e) {
-    if (o.json && !printed) printJson(errorJson(e.what(), kExitUsage));
-    throw;
+    // With --json the one object on stdout is solve's (main would print a second one).
+    if (!o.json || printed) throw;
+    log::error("%s", e.what());
+    printJson(errorJson(e.what(), kExitUsage));
+    return kExitUsage;
   } catch (const std::exception& e) {
-    if (o.json && !printed) printJson(errorJson(e.what(), kExitFailure));
-    throw;
+    if (!o.json || printed) throw;
+    log::error("%s", e.what());
+    printJson(errorJson(e.what(), kExitFailure));
+    return kExitFailure;
   }
 }
 

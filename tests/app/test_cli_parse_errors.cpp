@@ -31,9 +31,9 @@ TEST(CliParseErrors, UnknownCommandIsNamedWithTheCommands) {
 TEST(CliParseErrors, NoThreeHundredDigitBounds) {
   expectUsageError("live live.ini --duration -1", "--duration must be a number >= 0, got -1");
   expectUsageError("catalog build --fov-deg 10 -o x.db --per-region -1",
-                   "--per-region must be a whole number >= 0, got -1");
+                   "--per-region -1: must be >= 1, or 0 for no density reduction");
   expectUsageError("camera --fov-deg 500 --size 640 480",
-                   "--fov-deg must be a number from 0.1 to 179, got 500");
+                   "--fov-deg must be a number <= 179, got 500");
   expectUsageError("solve x.png --max-stars 2", "--max-stars must be a whole number from 4 to 100, got 2");
   // Nor in any help text.
   for (const char* cmd : {"camera", "catalog build", "catalog info", "config", "live",
