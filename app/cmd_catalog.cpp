@@ -23,6 +23,7 @@
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/log.hpp"
 
 namespace st::app {
 namespace {
@@ -97,12 +98,12 @@ double diagonalFov(const CatalogBuildOptions& o, std::string& how) {
     throw InputError("--fov-deg " + num(o.camera.fov_deg) + " with --size " + std::to_string(w) +
                      " " + std::to_string(h) + ": the diagonal would exceed 170 deg");
   if (square)
-    std::fprintf(stderr,
-                 "[catalog] note: --fov-deg %g is the HORIZONTAL field of view (as in solve and "
-                 "camera files); without --size W H the image is taken as square, so pairs "
-                 "span its diagonal, %.3f deg. Before issue 21 this option meant the diagonal: "
-                 "for that, use --diagonal-fov-deg.\n",
-                 o.camera.fov_deg, rad2deg(diag));
+    log::warn(
+        "--fov-deg %g is the HORIZONTAL field of view (as in solve and "
+        "camera files); without --size W H the image is taken as square, so pairs "
+        "span its diagonal, %.3f deg. Before issue 21 this option meant the diagonal: "
+        "for that, use --diagonal-fov-deg.",
+        o.camera.fov_deg, rad2deg(diag));
   std::snprintf(b, sizeof b, "a %s %dx%d image of %.3f deg horizontal FOV: diagonal %.3f deg",
                 square ? "square" : "", w, h, o.camera.fov_deg, rad2deg(diag));
   how = b;
@@ -192,26 +193,23 @@ int runBuild(const CatalogBuildOptions& o) {
   const double diag = diagonalFov(o, how);
   const DatabaseParams p = buildParams(o, diag);
   prepareOutputFile(o.out, "--output");
-  std::fprintf(stderr, "[catalog] camera: %s; pairs up to %.3f deg\n", how.c_str(),
-               rad2deg(p.max_pair_angle));
-  std::fprintf(stderr, "[catalog] loading %s\n", o.catalog_path.c_str());
+  log::info("camera: %s; pairs up to %.3f deg", how.c_str(), rad2deg(p.max_pair_angle));
+  log::info("loading %s", o.catalog_path.c_str());
   const StarCatalog cat = loadCatalog(o.catalog_path, o.catalog_format);
-  std::fprintf(stderr,
-               "[catalog] %s: %zu entries (%zu without position skipped, %zu without V), "
-               "depth V %.2f (faintest %.2f)\n",
-               cat.format.c_str(), cat.entries.size(), cat.skipped_no_position,
-               cat.skipped_no_magnitude, cat.depth_vmag, cat.faintest_vmag);
+  log::info(
+      "%s: %zu entries (%zu without position skipped, %zu without V), "
+      "depth V %.2f (faintest %.2f)",
+      cat.format.c_str(), cat.entries.size(), cat.skipped_no_position, cat.skipped_no_magnitude,
+      cat.depth_vmag, cat.faintest_vmag);
   double brightest = cat.entries.front().vmag;
   for (const CatalogEntry& e : cat.entries) brightest = std::min(brightest, e.vmag);
   if (o.mag_limit < brightest)
     throw InputError("--mag-limit " + num(o.mag_limit) + ": no star of " + o.catalog_path +
                      " is that bright (its brightest is V " + num(brightest) +
                      "); the database would be empty");
-  const StarDatabase db = StarDatabase::build(cat, p, [](const std::string& m) {
-    std::fprintf(stderr, "[catalog] %s\n", m.c_str());
-  });
-  std::fprintf(stderr, "[catalog] built in %.3f s; writing %s\n", db.report().build_seconds,
-               o.out.c_str());
+  const StarDatabase db =
+      StarDatabase::build(cat, p, [](const std::string& m) { log::info("%s", m.c_str()); });
+  log::info("built in %.3f s; writing %s", db.report().build_seconds, o.out.c_str());
   db.save(o.out);
   printDatabase(db, o.out);
   return kExitOk;

@@ -39,12 +39,13 @@
 #include "app/live/live_navigator.hpp"
 #include "app/live/live_recorder.hpp"
 #include "app/live/replay_config.hpp"
+#include "app/live/sensor_runner.hpp"
 #include "app/output_file.hpp"
+#include "common/errors.hpp"
+#include "common/log.hpp"
+#include "config/ini_reader.hpp"
 #include "navigation/run_summary.hpp"
 #include "navigation/tracker_config.hpp"
-#include "config/ini_reader.hpp"
-#include "app/live/sensor_runner.hpp"
-#include "common/errors.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 #include "sensors/sim/simulated_sensors.hpp"
@@ -114,7 +115,7 @@ class LiveSession {
     if (args_.gui) {
       std::string why;
       if (!display_.open("startracker live", &why))
-        std::fprintf(stderr, "live: --gui: %s; running without a window\n", why.c_str());
+        log::warn("--gui: %s; running without a window", why.c_str());
     }
     return running;
   }
@@ -180,7 +181,7 @@ class LiveSession {
       std::printf("replay: startracker replay %s --config %s\n", out_path_.c_str(),
                   replay_config_.c_str());
     }
-    for (const auto& w : nav_->warnings()) std::fprintf(stderr, "live: warning: %s\n", w.c_str());
+    for (const auto& w : nav_->warnings()) log::warn("%s", w.c_str());
     const std::vector<NavStep> steps = nav_->steps();
     printNavigationSummary(steps, stdout);
     if (!args_.csv.empty()) {
@@ -204,7 +205,7 @@ class LiveSession {
     for (auto* r : group) r->stop();
   }
   void printReports() {
-    for (const auto& m : queue_.takeReports()) std::fprintf(stderr, "live: %s\n", m.c_str());
+    for (const auto& m : queue_.takeReports()) log::info("%s", m.c_str());
   }
   void showFrame() {
     if (trackers_.empty()) return;

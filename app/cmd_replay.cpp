@@ -16,6 +16,7 @@
 #include "app/plot.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/log.hpp"
 #include "common/mrpt_convert.hpp"
 #include "common/progress.hpp"
 #include "fusion/consistency.hpp"
@@ -33,7 +34,7 @@ namespace fs = std::filesystem;
 
 struct ReplayOpts {
   std::string rawlog, config, output, csv, plots;
-  bool realtime = false, quiet = false;
+  bool realtime = false;
 };
 
 /// External images of the output rawlog: `<out stem>_Images` points to the input's folder.
@@ -45,8 +46,7 @@ void linkImages(const std::string& input, const std::string& output) {
   if (fs::equivalent(in_dir, out_dir, ec)) return;
   if (fs::is_symlink(out_dir)) fs::remove(out_dir, ec);
   if (fs::exists(out_dir)) {
-    std::fprintf(stderr, "[replay] warning: %s exists; external images are read from there\n",
-                 out_dir.c_str());
+    log::warn("%s exists; external images are read from there", out_dir.c_str());
     return;
   }
   fs::create_directory_symlink(in_dir, out_dir, ec);
@@ -134,7 +134,7 @@ std::string plots(const std::vector<NavStep>& steps, const std::string& dir) {
     try {
       savePlot(*p, png);
     } catch (const ProcessingError& e) {
-      std::fprintf(stderr, "[replay] plot %s not drawn: %s\n", png.c_str(), e.what());
+      log::warn("plot %s not drawn: %s", png.c_str(), e.what());
       break;
     }
     names += (names.empty() ? "" : ",") + std::string(name);
@@ -169,11 +169,10 @@ void checkImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs, const Rep
                      camera_label + " images found: " + where + "; first missing: " +
                      im.first_missing);
   }
-  std::fprintf(stderr,
-               "[replay] warning: %zu of %zu %s images missing (first: %s); %s; those frames "
-               "are skipped\n",
-               im.missing, im.external, camera_label.c_str(), im.first_missing.c_str(),
-               where.c_str());
+  log::warn(
+      "%zu of %zu %s images missing (first: %s); %s; those frames "
+      "are skipped",
+      im.missing, im.external, camera_label.c_str(), im.first_missing.c_str(), where.c_str());
 }
 
 int runReplay(const ReplayOpts& o) {
@@ -204,11 +203,11 @@ int runReplay(const ReplayOpts& o) {
     return isGyroObservation(*ob, cfg.nav);
   });
   if (!has_gyro) {
-    std::fprintf(stderr,
-                 "[replay] warning: no %s observations: without gyro rates there is no attitude "
-                 "filter; every frame is solved lost-in-space and the raw fixes are the output "
-                 "(the CSV's filter columns are nan, no filter NEES)\n",
-                 cfg.nav.gyro_label.c_str());
+    log::warn(
+        "no %s observations: without gyro rates there is no attitude "
+        "filter; every frame is solved lost-in-space and the raw fixes are the output "
+        "(the CSV's filter columns are nan, no filter NEES)",
+        cfg.nav.gyro_label.c_str());
     cfg.nav.fusion.filter_enabled = false;
   }
   const double epoch = julianYear(obs.front()->timestamp);
@@ -231,7 +230,7 @@ int runReplay(const ReplayOpts& o) {
     }
   });
 
-  ProgressBar bar("replay", obs.size(), !o.quiet);
+  ProgressBar bar("replay", obs.size(), true);  // silent under -q (common/progress)
   const auto wall0 = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (o.realtime) {
@@ -249,9 +248,9 @@ int runReplay(const ReplayOpts& o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (writer) writer->close();
 
-  for (const auto& w : nav.warnings()) std::fprintf(stderr, "[replay] warning: %s\n", w.c_str());
+  for (const auto& w : nav.warnings()) log::warn("%s", w.c_str());
   if (nav.warningCount() > int(nav.warnings().size()))
-    std::fprintf(stderr, "[replay] ... %d warnings in all\n", nav.warningCount());
+    log::info("... %d warnings in all", nav.warningCount());
 
   // ---- summary ----
   const auto& steps = nav.steps();
@@ -310,7 +309,6 @@ void addReplayCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
   cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");
   cmd->add_flag("--realtime", o->realtime, "Replay at the recorded speed");
-  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
   cmd->callback([o, &run] { run = [o] { return runReplay(*o); }; });
 }
 

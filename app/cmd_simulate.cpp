@@ -8,6 +8,7 @@
 #include "app/output_file.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/log.hpp"
 #include "sensors/sim/rawlog_writer.hpp"
 #include "sensors/sim/scenario.hpp"
 
@@ -60,7 +61,7 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
     std::string scenario, output;
     uint64_t seed = 0;
     int frames = 0;
-    bool inline_images = false, quiet = false, force = false;
+    bool inline_images = false, force = false;
   };
   auto o = std::make_shared<Opts>();
   cmd->add_option("scenario", o->scenario, "Scenario .ini (see sensors/sim/scenario.hpp)")
@@ -69,7 +70,6 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
   auto* seed_opt = cmd->add_option("--seed", o->seed, "Random seed (default: the scenario's)");
   auto* frames_opt = cmd->add_option("--frames", o->frames, "Limit the run to N frames");
   cmd->add_flag("--inline-images", o->inline_images, "Store images inside the rawlog");
-  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
   cmd->add_flag("-f,--force", o->force,
                 "Replace an existing rawlog, emptying its <stem>_Images/ first");
   cmd->callback([o, seed_opt, frames_opt, &run] {
@@ -81,7 +81,7 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
       if (seed_opt->count() > 0) opts.seed = o->seed;
       if (frames_opt->count() > 0) opts.frames = o->frames;
       opts.external_images = !o->inline_images;
-      opts.progress = !o->quiet;
+      opts.progress = !log::quiet();
       const SimulateSummary s = simulateToRawlog(sc, o->output, opts);
       std::printf("%s: %d frames (%d dropped), %d gyro samples, %zu observations, seed %llu\n",
                   o->output.c_str(), s.frames, s.frames_dropped, s.gyro_samples, s.objects,

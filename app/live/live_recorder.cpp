@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "common/log.hpp"
+
 namespace st::app {
 
 void LiveRecorder::record(std::vector<mrpt::obs::CObservation::Ptr> batch) {
@@ -56,8 +58,10 @@ void LiveRecorder::write(const mrpt::obs::CObservation::Ptr& o) {
 void LiveRecorder::printRawlogSummary(const std::string& path, std::FILE* out) const {
   std::fprintf(out, "rawlog: %s, %zu observations\n", path.c_str(), written_);
   if (out_of_order_ > 0) {
-    std::fprintf(stderr, "live: %d observations arrived more than %.1f s late and are out of "
-                 "time order in the rawlog\n", out_of_order_, hold_s_);
+    log::warn(
+        "%d observations arrived more than %.1f s late and are out of "
+        "time order in the rawlog",
+        out_of_order_, hold_s_);
   }
   for (const auto& [label, n] : per_label_) std::fprintf(out, "  %-16s %zu\n", label.c_str(), n);
 }

@@ -17,6 +17,7 @@
 #include "app/montecarlo/run_file.hpp"
 #include "app/plot.hpp"
 #include "common/errors.hpp"
+#include "common/log.hpp"
 #include "common/progress.hpp"
 
 namespace st::app::mc {
@@ -64,15 +65,14 @@ int writeReport(const Experiment& exp, const McOptions& o, const Table& trials) 
   const std::string program = gnuplotProgram(o.gnuplot);
   const std::string problem = gnuplotProblem(program);
   if (!problem.empty()) {
-    std::fprintf(stderr, "error: plots skipped: %s (tables were written; --no-plots to skip)\n",
-                 problem.c_str());
+    log::warn("plots skipped: %s (tables were written; --no-plots to skip)", problem.c_str());
     return 1;
   }
   for (const ReportPlot& p : rep.plots) {
     try {
       savePlot(p.plot, base + "_" + p.name + ".png", program);
     } catch (const ProcessingError& e) {
-      std::fprintf(stderr, "error: plot %s: %s\n", p.name.c_str(), e.what());
+      log::warn("plot %s: %s", p.name.c_str(), e.what());
       return 1;
     }
   }

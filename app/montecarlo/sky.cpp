@@ -6,6 +6,7 @@
 
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
+#include "common/log.hpp"
 
 namespace st::app::mc {
 
@@ -24,9 +25,8 @@ std::shared_ptr<const StarDatabase> buildDatabase(const McOptions& o, double max
   p.neighbour_radius = max_pair_angle / 2;  // as `solve`: Liebe's features need the neighbours
   auto db = std::make_shared<StarDatabase>(StarDatabase::build(cat, p));
   if (o.progress)
-    std::fprintf(stderr, "database: %zu stars V <= %.2f, %zu pairs <= %.2f deg (%.2f s)\n",
-                 db->stars().size(), mag_limit, db->pairs().size(), rad2deg(max_pair_angle),
-                 db->report().build_seconds);
+    log::info("database: %zu stars V <= %.2f, %zu pairs <= %.2f deg (%.2f s)", db->stars().size(),
+              mag_limit, db->pairs().size(), rad2deg(max_pair_angle), db->report().build_seconds);
   return db;
 }
 

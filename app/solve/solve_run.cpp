@@ -70,9 +70,10 @@ DatabaseChoice database(const SolveOptions& o, const FrameInput& in, const Camer
     out.epoch = chooseEpoch(o.epoch, in.epoch_jyear, in.epoch_source, &out.db);
     requireDatabaseEpoch(out.db, o.database, out.epoch);
     if (out.db.params().max_pair_angle < cs.max_diag * 0.999 && cs.fixed)
-      std::fprintf(stderr, "[solve] warning: %s holds pairs up to %.2f deg, the image diagonal is "
-                           "%.2f deg; stars far apart will not be paired\n",
-                   o.database.c_str(), rad2deg(out.db.params().max_pair_angle), rad2deg(cs.max_diag));
+      log::warn(
+          "%s holds pairs up to %.2f deg, the image diagonal is "
+          "%.2f deg; stars far apart will not be paired",
+          o.database.c_str(), rad2deg(out.db.params().max_pair_angle), rad2deg(cs.max_diag));
     return out;
   }
   out.epoch = chooseEpoch(o.epoch, in.epoch_jyear, in.epoch_source, nullptr);
@@ -150,7 +151,7 @@ int solveAndReport(const SolveOptions& o, bool& printed) {
   if (!rep.failure.empty()) {
     if (o.json) printJson(failureJson(rep));
     printed = true;
-    std::fprintf(stderr, "[solve] %s: not solved: %s\n", o.input.c_str(), rep.failure.c_str());
+    log::error("%s: not solved: %s", o.input.c_str(), rep.failure.c_str());
     return kExitFailure;
   }
   if (o.json)
