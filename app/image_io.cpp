@@ -119,24 +119,22 @@ LoadedImage loadFits(const std::string& path) {
 
 namespace {
 /// OpenCV logs its own warning for a file it cannot decode; the InputError below says it in
-/// the project's words, once.
-cv::Mat readQuietly(const std::string& path) {
-  namespace logging = cv::utils::logging;
-  const logging::LogLevel before = logging::setLogLevel(logging::LOG_LEVEL_ERROR);
+/// the project's words. Whether OpenCV's line shows is the command line's policy (errors only
+/// unless -v: app/cli/common_flags.cpp), not this function's.
+cv::Mat readImage(const std::string& path) {
   cv::Mat raw;
   try {
     raw = cv::imread(path, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception&) {
     raw.release();
   }
-  logging::setLogLevel(before);
   return raw;
 }
 }  // namespace
 
 LoadedImage loadImage(const std::string& path) {
   if (isFitsPath(path)) return loadFits(path);
-  cv::Mat raw = readQuietly(path);
+  cv::Mat raw = readImage(path);
   if (raw.empty()) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError(path + ": cannot open the image (no such file, or not readable)");
