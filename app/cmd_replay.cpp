@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/command.hpp"
+#include "app/live/replay_config.hpp"
 #include "app/output_file.hpp"
 #include "app/plot.hpp"
 #include "common/conventions.hpp"
@@ -175,10 +176,25 @@ void checkImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs, const Rep
       im.missing, im.external, camera_label.c_str(), im.first_missing.c_str(), where.c_str());
 }
 
+/// A live run's <stem>_tracker.ini beside the rawlog (app/live/replay_config.hpp), so that a
+/// plain `replay X.rawlog` makes the live run's fixes; "" when there is none.
+std::string recordedTrackerConfig(const std::string& rawlog) {
+  const fs::path ini = replayConfigPath(rawlog);
+  std::error_code ec;
+  return fs::is_regular_file(ini, ec) ? ini.string() : std::string();
+}
+
 int runReplay(const ReplayOpts& o) {
   if (!fs::is_regular_file(o.rawlog)) throw InputError(o.rawlog + ": rawlog not found");
   TrackerConfig cfg;
-  if (!o.config.empty()) cfg = TrackerConfig::load(o.config);
+  if (!o.config.empty()) {
+    cfg = TrackerConfig::load(o.config);
+  } else if (const std::string recorded = recordedTrackerConfig(o.rawlog); !recorded.empty()) {
+    log::info("using %s, the tracker and filter of the live run that recorded this rawlog "
+              "(--config to choose another)",
+              recorded.c_str());
+    cfg = TrackerConfig::load(recorded);
+  }
   prepareOutputs(o);
 
   // All observations first (external images stay on disk until a frame needs them).
@@ -304,7 +320,8 @@ void addReplayCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("rawlog", o->rawlog, "Input rawlog")->required();
   cmd->add_option("--config", o->config,
                   "tracker.ini: [pipeline] [filter] [navigator] [database] [camera] (see "
-                  "navigation/tracker_config.hpp)");
+                  "docs/configuration.md; default: <stem>_tracker.ini beside the rawlog if a "
+                  "live run wrote one, else the built-in defaults)");
   cmd->add_option("-o,--output", o->output, "Output rawlog: the input + STAR_TRACKER");
   cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
   cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");

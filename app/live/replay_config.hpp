@@ -4,7 +4,7 @@
 /// filled in), its star database recipe (the epoch it used, exactly) and camera, and the
 /// live .ini's [filter] and [navigator]. Live and replay then make the same fixes from the
 /// same frames: LiveNavigator asks the loop on replay's schedule. Written beside the rawlog
-/// as `<stem>_tracker.ini`; `startracker replay RAWLOG --config <that file>`.
+/// as `<stem>_tracker.ini`, which `startracker replay RAWLOG` picks up on its own.
 #pragma once
 #include <filesystem>
 #include <string>

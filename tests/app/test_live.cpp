@@ -210,13 +210,14 @@ TEST(Live, RecordingReplaysToTheSameFixes) {
   EXPECT_THAT(out, ::testing::HasSubstr("schedule: 0 frame(s) off replay's schedule")) << out;
   ASSERT_TRUE(fs::is_regular_file(tracker_ini)) << out;
   EXPECT_THAT(out, ::testing::HasSubstr("--config " + tracker_ini)) << out;
+  // The plain `replay X` a user types: it finds <stem>_tracker.ini beside the rawlog.
   std::string rout;
-  ASSERT_EQ(test::runCommand("'" + test::startrackerExe() + "' replay '" + rawlog + "' --config '" +
-                                 tracker_ini + "' -o '" + dir + "/replay.rawlog' --csv '" + dir +
-                                 "/replay.csv'",
+  ASSERT_EQ(test::runCommand("'" + test::startrackerExe() + "' replay '" + rawlog + "' -o '" +
+                                 dir + "/replay.rawlog' --csv '" + dir + "/replay.csv'",
                              &rout),
             0)
       << rout;
+  EXPECT_THAT(rout, ::testing::HasSubstr("using " + tracker_ini)) << rout;
 
   // Live's fixes are in its rawlog. Replay's output rawlog holds the input (live's fixes
   // among it) and replay's own STAR_TRACKER, each written when its step ends, after the
