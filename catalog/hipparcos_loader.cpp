@@ -26,16 +26,12 @@ StarCatalog loadHipparcos(const std::string& path) {
   cat.format = "hipparcos";
   cat.source_path = path;
   cat.epoch_jyear = 1991.25;
-  catalog_detail::GzLineReader reader(path, "Hipparcos catalog");
-  std::string line;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  while (reader.next(line)) {
-    if (catalog_detail::isBlank(line)) continue;
-    const PipeFields f(path, reader.lineNumber(), line);
+  catalog_detail::forEachPipeRecord(path, "Hipparcos catalog", [&](const PipeFields& f) {
     if (int(f.size()) < kMinFields)
-      throw InputError(path + ":" + std::to_string(reader.lineNumber()) + ": only " +
-                       std::to_string(f.size()) + " '|'-separated fields, need at least " +
-                       std::to_string(kMinFields) + " (not a hip_main.dat line, or truncated)");
+      throw InputError(f.place() + ": only " + std::to_string(f.size()) +
+                       " '|'-separated fields, need at least " + std::to_string(kMinFields) +
+                       " (not a hip_main.dat line, or truncated)");
     if (f[0] != "H")
       throw InputError(f.where("0 (catalog letter)") + ": expected 'H', got '" + f[0] + "'");
     const double hip = f.number(kFieldHip, "1 (HIP)", -1);
@@ -43,7 +39,7 @@ StarCatalog loadHipparcos(const std::string& path) {
       throw InputError(f.where("1 (HIP)") + ": '" + f[kFieldHip] + "' is not a HIP number");
     if (f[kFieldRaDeg].empty() || f[kFieldDeDeg].empty()) {  // no astrometric solution
       ++cat.skipped_no_position;
-      continue;
+      return;
     }
     CatalogEntry e;
     e.id = uint32_t(hip);
@@ -58,10 +54,10 @@ StarCatalog loadHipparcos(const std::string& path) {
     e.bv = f.number(kFieldBV, "37 (B-V)", nan);
     if (std::isnan(e.vmag)) {
       ++cat.skipped_no_magnitude;
-      continue;
+      return;
     }
     cat.entries.push_back(e);
-  }
+  });
   if (cat.entries.empty())
     throw InputError(path + ": no star with a position and a V magnitude in the file");
   cat.completeness_vmag = 7.3;  // ESA 1997 vol. 1 sec. 1.2: complete to V 7.3-9 (by latitude, colour)

@@ -59,6 +59,8 @@ PipeFields::PipeFields(const std::string& path, std::size_t line_number, const s
     }
 }
 
+std::string PipeFields::place() const { return path_ + ":" + std::to_string(line_); }
+
 std::string PipeFields::where(const std::string& field_name) const {
   return path_ + ":" + std::to_string(line_) + ": field " + field_name;
 }
@@ -78,6 +80,14 @@ bool isBlank(const std::string& line) {
   for (char c : line)
     if (c != ' ' && c != '\t' && c != '\r') return false;
   return true;
+}
+
+void forEachPipeRecord(const std::string& path, const std::string& what,
+                       const std::function<void(const PipeFields&)>& record) {
+  GzLineReader reader(path, what);
+  std::string line;
+  while (reader.next(line))
+    if (!isBlank(line)) record(PipeFields(path, reader.lineNumber(), line));
 }
 
 }  // namespace st::catalog_detail

@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ class PipeFields {
   PipeFields(const std::string& path, std::size_t line_number, const std::string& line);
   std::size_t size() const { return fields_.size(); }
   const std::string& operator[](std::size_t k) const { return fields_[k]; }
+  /// "path:line" for messages.
+  std::string place() const;
   /// "path:line: field NAME" for messages.
   std::string where(const std::string& field_name) const;
   /// The field as a number; an empty field gives `empty_value`; anything that is not one
@@ -52,5 +55,10 @@ class PipeFields {
 
 /// Whether the line holds nothing but blanks.
 bool isBlank(const std::string& line);
+
+/// Calls `record` with every line of a '|'-separated catalog file (plain or gzip) that is not
+/// blank, split into fields; `what` names the catalog in messages ("Tycho-2 catalog").
+void forEachPipeRecord(const std::string& path, const std::string& what,
+                       const std::function<void(const PipeFields&)>& record);
 
 }  // namespace st::catalog_detail

@@ -27,16 +27,12 @@ StarCatalog loadTycho2(const std::string& path) {
   cat.format = "tycho2";
   cat.source_path = path;
   cat.epoch_jyear = 2000.0;
-  catalog_detail::GzLineReader reader(path, "Tycho-2 catalog");
-  std::string line;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  while (reader.next(line)) {
-    if (catalog_detail::isBlank(line)) continue;
-    const PipeFields f(path, reader.lineNumber(), line);
+  catalog_detail::forEachPipeRecord(path, "Tycho-2 catalog", [&](const PipeFields& f) {
     if (int(f.size()) != kFields)
-      throw InputError(path + ":" + std::to_string(reader.lineNumber()) + ": " +
-                       std::to_string(f.size()) + " '|'-separated fields, a tyc2.dat record has " +
-                       std::to_string(kFields) + " (not a tyc2.dat line, or truncated)");
+      throw InputError(f.place() + ": " + std::to_string(f.size()) +
+                       " '|'-separated fields, a tyc2.dat record has " + std::to_string(kFields) +
+                       " (not a tyc2.dat line, or truncated)");
     int t1 = 0, t2 = 0, t3 = 0;
     char rest = 0;
     if (std::sscanf(f[kFieldTyc].c_str(), "%d %d %d %c", &t1, &t2, &t3, &rest) != 3)
@@ -53,7 +49,7 @@ StarCatalog loadTycho2(const std::string& path) {
     const char* ra_name = mean ? "2 (mRAdeg)" : "24 (RAdeg)";
     if (f[ra_k].empty() || f[de_k].empty()) {
       ++cat.skipped_no_position;
-      continue;
+      return;
     }
     e.ra = deg2rad(f.number(ra_k, ra_name, nan));
     e.dec = deg2rad(f.number(de_k, mean ? "3 (mDEdeg)" : "25 (DEdeg)", nan));
@@ -68,12 +64,12 @@ StarCatalog loadTycho2(const std::string& path) {
     const double vt = f.number(kFieldVT, "19 (VTmag)", nan);
     if (std::isnan(vt)) {
       ++cat.skipped_no_magnitude;
-      continue;
+      return;
     }
     e.vmag = std::isnan(bt) ? vt : vt - 0.090 * (bt - vt);
     e.bv = std::isnan(bt) ? nan : 0.850 * (bt - vt);
     cat.entries.push_back(e);
-  }
+  });
   if (cat.entries.empty())
     throw InputError(path + ": no star with a position and a VT magnitude in the file");
   cat.completeness_vmag = 11.0;  // Hog et al. 2000: 99 % complete to V 11.0, 90 % to 11.5
