@@ -47,10 +47,21 @@ std::string be32(std::uint32_t v) {
   return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
 }
 
-/// A PNG signature and IHDR chunk claiming w x h (no pixel data follows).
+/// PNG's CRC-32 of `bytes`.
+std::uint32_t crc32(const std::string& bytes) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+
+/// A PNG signature and a valid IHDR chunk claiming w x h 8-bit grey (no pixel data follows).
 std::string pngHeader(std::uint32_t w, std::uint32_t h) {
-  return std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + "IHDR" + be32(w) + be32(h) +
-         std::string("\x08\x00\x00\x00\x00", 5) + be32(0);
+  const std::string ihdr =
+      "IHDR" + be32(w) + be32(h) + std::string("\x08\x00\x00\x00\x00", 5);
+  return std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + ihdr + be32(crc32(ihdr));
 }
 
 /// A little-endian baseline TIFF header claiming w x h 8-bit grey, one strip, no data.
