@@ -36,6 +36,7 @@ namespace fs = std::filesystem;
 struct ReplayOpts {
   std::string rawlog, config, output, csv, plots;
   bool realtime = false;
+  bool strict = false;  ///< a damaged rawlog is an error instead of replayed up to the damage
 };
 
 /// External images of the output rawlog: `<out stem>_Images` points to the input's folder.
@@ -197,8 +198,16 @@ int runReplay(const ReplayOpts& o) {
   }
   prepareOutputs(o);
 
-  // All observations first (external images stay on disk until a frame needs them).
-  const std::vector<mrpt::obs::CObservation::Ptr> obs = readRawlog(o.rawlog);
+  // All observations first (external images stay on disk until a frame needs them). A rawlog
+  // cut or damaged part way (a recording interrupted by a crash or power loss) replays the
+  // intact observations before the damage, as MRPT's own tools read it, and says once where
+  // it stopped; --strict makes that an error. A file with no readable object stays one.
+  RawlogDamage damage;
+  const std::vector<mrpt::obs::CObservation::Ptr> obs = readRawlogUpToDamage(o.rawlog, &damage);
+  if (damage.damaged) {
+    if (o.strict) throw InputError(damage.message + " (--strict)");
+    log::warn("%s; replaying those (--strict makes this an error)", damage.message.c_str());
+  }
   if (obs.empty()) throw InputError(o.rawlog + ": no observations");
   std::optional<CameraModel> camera = cfg.camera;
   for (const auto& ob : obs) {
@@ -282,7 +291,9 @@ int runReplay(const ReplayOpts& o) {
       if (s.use == FixUse::kRejected) ++rejected;
     }
   }
-  std::printf("%s: %zu observations, camera %s\n", o.rawlog.c_str(), obs.size(),
+  const std::string upto =
+      damage.damaged ? " (up to the damage at object " + std::to_string(damage.object) + ")" : "";
+  std::printf("%s: %zu observations%s, camera %s\n", o.rawlog.c_str(), obs.size(), upto.c_str(),
               camera->describe().c_str());
   std::printf("database: %zu stars (%s, %.1f s)\n", db.stars().size(),
               cfg.database.path.empty() ? "built in memory" : cfg.database.path.c_str(), db_s);
@@ -326,6 +337,9 @@ void addReplayCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
   cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");
   cmd->add_flag("--realtime", o->realtime, "Replay at the recorded speed");
+  cmd->add_flag("--strict", o->strict,
+                "A rawlog truncated or damaged part way is an error (exit 2); by default the "
+                "observations before the damage are replayed with a warning");
   cmd->callback([o, &run] { run = [o] { return runReplay(*o); }; });
 }
 

@@ -8,6 +8,8 @@
 #include <mrpt/rtti/CObject.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <mutex>
 
@@ -110,10 +112,22 @@ mrpt::obs::CObservation::Ptr RawlogReader::next() {
   mrpt::serialization::CSerializable::Ptr obj;
   try {
     obj = ar_->ReadObject();
+    offset_ = file_->getPosition();
   } catch (const mrpt::serialization::CExceptionEOF&) {
-    // End of file exactly between two objects: the normal end of a rawlog.
     at_end_ = true;
-    return nullptr;
+    // End of file exactly between two objects: the normal end of a rawlog. Any byte of the
+    // object read (or a gz stream that cannot say where it is) means the file ends inside the
+    // object: truncated, which MRPT reports as the same EOF.
+    const std::uint64_t pos = file_->getPosition();
+    if (pos == offset_) return nullptr;
+    const std::string why =
+        pos > offset_ && pos != std::uint64_t(-1)
+            ? "the file ends inside the object (" + std::to_string(pos - offset_) +
+                  " of its bytes present)"
+            : "the file ends inside the object";
+    throw RawlogDamageError(where() + "(byte " + std::to_string(offset_) +
+                                " of the uncompressed stream) truncated: " + why,
+                            count_, offset_, why);
   } catch (const std::exception& e) {
     at_end_ = true;
     // MRPT's message is long (a stack trace); its first line says what went wrong, e.g. a
@@ -123,13 +137,28 @@ mrpt::obs::CObservation::Ptr RawlogReader::next() {
     std::string first = m == std::string::npos ? msg : msg.substr(m + 8);
     first = first.substr(first.find_first_not_of(' '));
     first = first.substr(0, first.find('\n'));
-    const bool unknown_class = msg.find("not registered") != std::string::npos;
-    throw InputError(where() + (unknown_class
-                                    ? "class not registered (a type this program does not "
-                                      "know; for st::CObservationStarTracker load the "
-                                      "startracker_mrpt plugin): "
-                                    : "truncated or not a rawlog: ") +
-                     first);
+    // "Stored object has class 'X' which is not registered": an unknown class only when X
+    // looks like a C++ name; otherwise the bytes where a class name belongs are damaged.
+    bool unknown_class = msg.find("not registered") != std::string::npos;
+    if (unknown_class) {
+      const std::size_t q0 = first.find('\''), q1 = first.rfind('\'');
+      const std::string name =
+          q0 != std::string::npos && q1 > q0 ? first.substr(q0 + 1, q1 - q0 - 1) : "";
+      unknown_class = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':';
+      });
+      if (!unknown_class) first = "bytes that are no MRPT object (a garbled class name)";
+    }
+    if (unknown_class) {
+      throw InputError(where() +
+                       "class not registered (a type this program does not know; for "
+                       "st::CObservationStarTracker load the startracker_mrpt plugin): " +
+                       first);
+    }
+    throw RawlogDamageError(where() + "(byte " + std::to_string(offset_) +
+                                " of the uncompressed stream) truncated or not a rawlog: " +
+                                first,
+                            count_, offset_, first);
   }
   auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj);
   if (!obs) {
@@ -146,6 +175,28 @@ std::vector<mrpt::obs::CObservation::Ptr> readRawlog(const std::string& path) {
   RawlogReader reader(path);
   std::vector<mrpt::obs::CObservation::Ptr> out;
   while (auto obs = reader.next()) out.push_back(std::move(obs));
+  return out;
+}
+
+std::vector<mrpt::obs::CObservation::Ptr> readRawlogUpToDamage(const std::string& path,
+                                                               RawlogDamage* damage) {
+  RawlogReader reader(path);
+  std::vector<mrpt::obs::CObservation::Ptr> out;
+  RawlogDamage d;
+  try {
+    while (auto obs = reader.next()) out.push_back(std::move(obs));
+  } catch (const RawlogDamageError& e) {
+    if (e.object == 0) throw;  // nothing readable: not a rawlog (or cut inside object 0)
+    d.damaged = true;
+    d.object = e.object;
+    d.offset = e.offset;
+    d.reason = e.reason;
+    d.message = "rawlog '" + path + "': stopped at object " + std::to_string(e.object) +
+                " (byte " + std::to_string(e.offset) +
+                " of the uncompressed stream), truncated or damaged: " + e.reason + "; the " +
+                std::to_string(e.object) + " observations before it are intact";
+  }
+  if (damage) *damage = d;
   return out;
 }
 

@@ -11,10 +11,14 @@
 #include <mrpt/obs/CObservation.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "common/errors.hpp"
 
 namespace mrpt::io {
 class CFileGZInputStream;
@@ -66,6 +70,20 @@ class RawlogWriter {
   bool images_dir_made_ = false;
 };
 
+/// A rawlog that stops being readable part way: truncated (a recording cut by a crash or
+/// power loss, a copy cut short, a gz file cut anywhere) or bytes that are no MRPT object.
+/// Thrown by RawlogReader::next() (an InputError, so callers that want the whole file treat
+/// it as bad input); readRawlogUpToDamage() keeps what came before it instead.
+class RawlogDamageError : public InputError {
+ public:
+  RawlogDamageError(const std::string& what, std::size_t object, std::uint64_t offset,
+                    std::string reason)
+      : InputError(what), object(object), offset(offset), reason(std::move(reason)) {}
+  std::size_t object;    ///< 0-based index of the object that could not be read
+  std::uint64_t offset;  ///< its byte offset in the (uncompressed) object stream
+  std::string reason;    ///< MRPT's error, first line
+};
+
 /// Streams the observations of an observation-only rawlog (plain or gz), counting objects.
 /// Registers our classes itself. `<stem>_Images` becomes MRPT's images path base (a
 /// process-wide setting) so external images load, and so a missing folder is found missing
@@ -78,14 +96,17 @@ class RawlogReader {
   RawlogReader(const RawlogReader&) = delete;
   RawlogReader& operator=(const RawlogReader&) = delete;
 
-  /// The next observation, or nullptr at the end of the file. Throws InputError naming the
-  /// file and the object index (0-based) for a truncated or corrupt file, a class MRPT does
+  /// The next observation, or nullptr at the end of the file. Throws RawlogDamageError (an
+  /// InputError) naming the file, the object index (0-based) and its byte offset for a
+  /// truncated or corrupt file; InputError for a class MRPT does
   /// not know (e.g. ours without registration or the plugin), or an object that is not an
   /// observation (actions / sensory frames: not an observation-only rawlog).
   mrpt::obs::CObservation::Ptr next();
 
   /// Objects read so far.
   std::size_t count() const { return count_; }
+  /// Bytes of the (uncompressed) object stream consumed by the objects read so far.
+  std::uint64_t offset() const { return offset_; }
   const std::string& path() const { return path_; }
 
  private:
@@ -93,11 +114,29 @@ class RawlogReader {
   std::unique_ptr<mrpt::io::CFileGZInputStream> file_;
   std::unique_ptr<mrpt::serialization::CArchive> ar_;
   std::size_t count_ = 0;
+  std::uint64_t offset_ = 0;
   bool at_end_ = false;
 };
 
 /// Reads the whole rawlog (see RawlogReader for the errors).
 std::vector<mrpt::obs::CObservation::Ptr> readRawlog(const std::string& path);
+
+/// Where and why readRawlogUpToDamage() stopped before the end of the file.
+struct RawlogDamage {
+  bool damaged = false;     ///< false: the file was read to its end
+  std::size_t object = 0;   ///< index of the first unreadable object (= observations kept)
+  std::uint64_t offset = 0; ///< its byte offset in the uncompressed object stream
+  std::string reason;       ///< MRPT's error, first line
+  std::string message;      ///< one line naming the file, object, offset and reason
+};
+
+/// Reads a rawlog up to the first damage (truncation, corrupt bytes): the intact
+/// observations before it are returned and `damage` says where and why reading stopped,
+/// as MRPT's own tools do. A file whose first object is unreadable (not a rawlog, or cut
+/// before any object ends), an unknown class or a non-observation object still throw
+/// InputError, as readRawlog().
+std::vector<mrpt::obs::CObservation::Ptr> readRawlogUpToDamage(const std::string& path,
+                                                               RawlogDamage* damage);
 
 /// The external images (CObservationImage) of observations labelled `sensor_label`, looked up
 /// where MRPT will load them (CImage::getImagesPathBase(), which RawlogReader sets to the
