@@ -129,26 +129,23 @@ void FusionLoop::push(Event e) {
   newest_t_ = std::max(newest_t_, e.t);
   queue_.push_back(std::move(e));
   std::push_heap(queue_.begin(), queue_.end());
-  while (!queue_.empty() && queue_.front().t <= newest_t_ - opts_.reorder_window_s) {
-    std::pop_heap(queue_.begin(), queue_.end());
-    Event next = std::move(queue_.back());
-    queue_.pop_back();
-    process(next);
-  }
+  const double ready_before = newest_t_ - opts_.reorder_window_s;
+  processWhile([ready_before](const Event& next) { return next.t <= ready_before; });
 }
 
 void FusionLoop::flush() {
-  while (!queue_.empty()) {
-    std::pop_heap(queue_.begin(), queue_.end());
-    Event next = std::move(queue_.back());
-    queue_.pop_back();
-    process(next);
-  }
+  processWhile([](const Event&) { return true; });
 }
 
 void FusionLoop::processBefore(double t) {
   const std::pair<double, int> frame{t, kFrame};
-  while (!queue_.empty() && std::make_pair(queue_.front().t, queue_.front().kind) < frame) {
+  processWhile([&frame](const Event& next) { return std::make_pair(next.t, next.kind) < frame; });
+}
+
+template <class Predicate>
+void FusionLoop::processWhile(Predicate ready) {
+  // The queue is a heap in (time, kind, arrival) order: front() is the next event.
+  while (!queue_.empty() && ready(queue_.front())) {
     std::pop_heap(queue_.begin(), queue_.end());
     Event next = std::move(queue_.back());
     queue_.pop_back();

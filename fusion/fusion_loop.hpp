@@ -164,6 +164,9 @@ class FusionLoop {
   };
 
   void push(Event e);
+  /// Processes queued events in order while `ready(next event)` holds.
+  template <class Predicate>
+  void processWhile(Predicate ready);
   void process(Event& e);
   void onGyro(double t, const Vec3& rate_body);
   void onFrame(Event& e);
