@@ -111,9 +111,13 @@ PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const Sta
     limits.deadline = t_start + std::chrono::duration_cast<Clock::duration>(
                                     std::chrono::duration<double>(o.cpulimit_s));
   const CentroidSearch search = [&](const std::vector<Centroid>& stars) {
-    if (cs.fixed)  // an approximate FOV (no camera file) gets 1 % slack and a focal fit
-      return identifyAndFit(stars, *cs.fixed, db, *identifier, cs.fit_focal ? 0.01 : 0.0,
-                            cs.fit_focal, sigma_floor, limits);
+    // An approximate FOV (no camera file) gets 1 % slack and a focal + distortion fit; a
+    // camera file is used as it is and healed when that fails.
+    if (cs.fixed)
+      return identifyAndFit(stars, *cs.fixed, db, *identifier,
+                            cs.fit_focal ? CameraFitPolicy::approximateFov(0.01)
+                                         : CameraFitPolicy::cameraFile(*cs.fixed),
+                            sigma_floor, limits);
     return identifyUnknownFov(stars, in.width, in.height, db, *identifier, cs.grid, cs.scale_tol,
                               sigma_floor, limits);
   };

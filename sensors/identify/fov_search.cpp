@@ -3,6 +3,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace st {
 
@@ -11,25 +12,6 @@ std::vector<double> fovSearchGrid(double min_hfov, double max_hfov, double s) {
   const double ratio = (1 + s) / (1 - s);
   for (double f = min_hfov * (1 + s); f <= max_hfov * ratio; f *= ratio) out.push_back(f);
   return out;
-}
-
-CameraModel fitFocalLength(const CameraModel& cam, const std::vector<StarObservation>& obs,
-                           const IdentifyResult& r, const StarDatabase& db) {
-  if (r.matches.size() < 3) return cam;
-  const Mat3 R_ci = r.q_ic.toRotationMatrix().transpose();
-  const double a = cam.fy() / cam.fx();
-  // p - c = f * (xn, a*yn)  =>  f = sum (p-c).(xn, a yn) / sum |(xn, a yn)|^2
-  double num = 0, den = 0;
-  for (const StarMatch& m : r.matches) {
-    const Vec3 v = R_ci * db.stars()[m.star_index].u_i;
-    const Vec2 xn(v.x() / v.z(), a * v.y() / v.z());
-    const Vec2 d = obs[m.obs_index].px - Vec2(cam.cx(), cam.cy());
-    num += d.dot(xn);
-    den += xn.squaredNorm();
-  }
-  if (!(den > 0) || !(num > 0)) return cam;
-  const double f = num / den;
-  return CameraModel(cam.width(), cam.height(), f, a * f, cam.cx(), cam.cy(), cam.distortion());
 }
 
 namespace {
@@ -46,9 +28,104 @@ FovSearchResult applyRefusal(FovSearchResult out, const SearchLimits& limits) {
 }
 }  // namespace
 
+namespace {
+
+/// One identification with `slack` (relative focal-length tolerance). A candidate pass (slack
+/// before a refit) has wide gates, so even a correct match has a large false-match
+/// probability: it only proposes (relaxed threshold); the answer is the strict
+/// identification with the fitted camera.
+IdentifyResult identifyWith(StarIdentifier& identifier, const std::vector<StarObservation>& obs,
+                            const StarDatabase& db, const CameraModel& cam, double slack,
+                            bool candidate) {
+  const IdentifyOptions saved = identifier.options();
+  identifier.mutableOptions().scale_tolerance = slack;
+  if (candidate)
+    identifier.mutableOptions().verify.false_match_threshold =
+        std::max(saved.verify.false_match_threshold, kCandidateFalseMatchThreshold);
+  IdentifyResult r = identifier.identify(obs, db, cam);
+  identifier.mutableOptions() = saved;
+  return r;
+}
+
+/// The centroid floor of a candidate pass: its camera is approximate by construction, so its
+/// model error (pixels at the corners) dominates any centroid's noise.
+constexpr double kCandidateSigmaFloorPx = 0.5;
+/// The largest camera-model error term a strict identification takes: a camera worse than
+/// this is not one a star tracker can verify against (and a wrong match's scatter is larger).
+constexpr double kMaxModelErrorPx = 1.0;
+
+/// The model-error term (camera_fit.hpp) of the matches of `r` seen through `cam` with the
+/// strict centroid sigmas `obs`, capped at kMaxModelErrorPx.
+double modelErrorOf(const std::vector<StarObservation>& obs, const IdentifyResult& r,
+                    const StarDatabase& db, const CameraModel& cam) {
+  const std::vector<FrameStars> frames = {frameStarsOf(obs, r, db, cam)};
+  CameraFitSpec nothing_free;
+  nothing_free.focal = false;
+  return std::min(kMaxModelErrorPx, modelErrorSigmaPx(fitCamera(cam, frames, nothing_free), frames));
+}
+
+/// Candidate (with slack when the policy refines) -> fit -> re-match rounds -> the strict
+/// identification with the fitted camera, its centroid sigmas widened by what the fitted
+/// camera leaves unexplained (the model-error term).
+FovSearchResult candidateAndRefine(const std::vector<Centroid>& centroids, const CameraModel& cam,
+                                   const StarDatabase& db, StarIdentifier& identifier,
+                                   const CameraFitPolicy& policy, double slack,
+                                   double min_sigma_px) {
+  FovSearchResult out;
+  out.camera = cam;
+  const bool candidate_pass = policy.refines() && slack > 0;
+  const double floor_px =
+      candidate_pass ? std::max(min_sigma_px, kCandidateSigmaFloorPx) : min_sigma_px;
+  out.obs = toStarObservations(centroids, cam, floor_px);
+  out.result = identifyWith(identifier, out.obs, db, cam, slack, candidate_pass);
+  if (!out.result.solved() || !policy.refines()) return out;
+  RefinedCandidate rc = refineFromCandidate(centroids, cam, out.obs, out.result, db,
+                                            identifier.options(), policy, floor_px);
+  const double model_px =
+      modelErrorOf(toStarObservations(centroids, rc.camera, min_sigma_px), rc.result, db, rc.camera);
+  std::vector<StarObservation> obs = toStarObservations(centroids, rc.camera, min_sigma_px, model_px);
+  IdentifyResult strict = identifyWith(identifier, obs, db, rc.camera, 0, false);
+  if (strict.solved()) {
+    out.camera = rc.camera;
+    out.obs = std::move(obs);
+    out.result = std::move(strict);
+    out.model_error_px = model_px;
+  } else if (candidate_pass) {
+    out.result = std::move(strict);
+    out.result.reason = "candidate at the approximate focal length did not verify with the "
+                        "fitted one: " + out.result.reason;
+  }  // else the given camera's strict solution stands
+  return out;
+}
+
+/// The fit of the final matches: focal length and distortion with their uncertainties, and
+/// the model-error term, for the report (and a camera file's discrepancy).
+void attachFit(FovSearchResult& out, const StarDatabase& db, const CameraFitPolicy& policy) {
+  if (!out.result.solved() || !policy.refines()) return;
+  CameraFitResult fit = fitCameraToMatches(out.camera, out.obs, out.result, db, policy);
+  if (!fit.ok) return;
+  out.camera_fit = std::move(fit);
+}
+
+/// Focal-length factors of the healing search: 1, then outwards in steps of 2 * step_slack
+/// (ranges that touch), up to +-range.
+std::vector<double> healFactors(double range, double step_slack) {
+  std::vector<double> out = {1.0};
+  const double step = (1 + step_slack) / (1 - step_slack);
+  for (double f = step; f - 1 <= range + step_slack; f *= step)
+    out.push_back(f), out.push_back(1 / f);
+  return out;
+}
+
+// The healing grid's ranges touch at +-2 %; each try's slack reaches a quarter of a step into
+// its neighbours' (a focal length on the border is then well inside one of them).
+constexpr double kHealStep = 0.02, kHealSlack = 0.025;
+
+}  // namespace
+
 FovSearchResult identifyAndFit(const std::vector<Centroid>& centroids, const CameraModel& cam,
                                const StarDatabase& db, StarIdentifier& identifier,
-                               double scale_tolerance, bool fit_focal, double min_sigma_px,
+                               const CameraFitPolicy& policy, double min_sigma_px,
                                const SearchLimits& limits) {
   FovSearchResult out;
   out.camera = cam;
@@ -57,41 +134,34 @@ FovSearchResult identifyAndFit(const std::vector<Centroid>& centroids, const Cam
     out.result.reason = kCpuLimitReason;
     return out;
   }
-  const IdentifyOptions saved = identifier.options();
-  // With scale slack the gates are wide, so the false-match probability of even a correct
-  // match is large: the first pass only proposes a candidate (relaxed threshold); the answer
-  // is the strict identification with the fitted focal length below.
-  const bool candidate_pass = fit_focal && scale_tolerance > 0;
-  identifier.mutableOptions().scale_tolerance = scale_tolerance;
-  if (candidate_pass)
-    identifier.mutableOptions().verify.false_match_threshold =
-        std::max(saved.verify.false_match_threshold, kCandidateFalseMatchThreshold);
-  out.obs = toStarObservations(centroids, cam, min_sigma_px);
-  out.result = identifier.identify(out.obs, db, cam);
-  identifier.mutableOptions() = saved;
-  if (!out.result.solved() || !fit_focal) return applyRefusal(std::move(out), limits);
-  // Refit the focal length and identify again without scale slack (two rounds: the first
-  // attitude was fitted with the wrong scale).
-  bool strict_solved = !candidate_pass;
-  IdentifyResult last_failure;
-  for (int round = 0; round < 2; ++round) {
-    const CameraModel fitted = fitFocalLength(out.camera, out.obs, out.result, db);
-    std::vector<StarObservation> obs = toStarObservations(centroids, fitted, min_sigma_px);
-    IdentifyResult r = identifier.identify(obs, db, fitted);
-    if (!r.solved()) {
-      last_failure = std::move(r);
-      break;
+  if (policy.heal_range <= 0) {
+    out = candidateAndRefine(centroids, cam, db, identifier, policy, policy.scale_tolerance,
+                             min_sigma_px);
+  } else {
+    // A camera file: as it is first (the normal case costs nothing more), then healed.
+    out = candidateAndRefine(centroids, cam, db, identifier, CameraFitPolicy::fixed(), 0,
+                             min_sigma_px);
+    const std::string as_is = out.result.reason;
+    for (double f : out.result.solved() ? std::vector<double>{} : healFactors(policy.heal_range, kHealStep)) {
+      if (limits.expired()) break;
+      const CameraModel scaled(cam.width(), cam.height(), cam.fx() * f, cam.fy() * f, cam.cx(),
+                               cam.cy(), cam.distortion());
+      FovSearchResult h =
+          candidateAndRefine(centroids, scaled, db, identifier, policy, kHealSlack, min_sigma_px);
+      if (h.result.solved()) {
+        out = std::move(h);
+        out.healed = true;
+        break;
+      }
     }
-    strict_solved = true;
-    out.camera = fitted;
-    out.obs = std::move(obs);
-    out.result = std::move(r);
+    if (!out.result.solved()) {
+      char b[120];
+      std::snprintf(b, sizeof b, "; nor with the focal length refined within +-%.0f %%",
+                    100 * policy.heal_range);
+      out.result.reason = as_is + b;
+    }
   }
-  if (!strict_solved) {
-    out.result = std::move(last_failure);
-    out.result.reason = "candidate at the approximate focal length did not verify with the "
-                        "fitted one: " + out.result.reason;
-  }
+  attachFit(out, db, policy);
   return applyRefusal(std::move(out), limits);
 }
 
@@ -112,8 +182,9 @@ FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int w
     const CameraModel cam = CameraModel::fromFov(width, height, hfov);
     if (2 * cam.halfDiagonalFov() * (1 - scale_tolerance) > db.params().max_pair_angle) break;
     ++out.fovs_tried;
-    FovSearchResult r = identifyAndFit(centroids, cam, db, identifier, scale_tolerance, true,
-                                       min_sigma_px, limits);
+    FovSearchResult r =
+        identifyAndFit(centroids, cam, db, identifier,
+                       CameraFitPolicy::approximateFov(scale_tolerance), min_sigma_px, limits);
     const bool solved = r.result.solved();
     out.cpu_limit_reached = r.cpu_limit_reached;
     if (!r.refused.empty()) out.refused = r.refused;

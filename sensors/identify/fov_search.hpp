@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sensors/identify/camera_refine.hpp"
 #include "sensors/identify/identifier.hpp"
 
 namespace st {
@@ -23,11 +24,6 @@ constexpr double kCandidateFalseMatchThreshold = 1e-2;
 /// Horizontal FOVs [rad] from `min_hfov` to `max_hfov` whose ranges
 /// [f (1 - s), f (1 + s)] touch each other (s = scale_tolerance).
 std::vector<double> fovSearchGrid(double min_hfov, double max_hfov, double scale_tolerance);
-
-/// Least-squares focal length for the identified stars (attitude and matches of `r`),
-/// keeping the principal point and the fx/fy ratio. Returns `cam` unchanged with < 3 matches.
-CameraModel fitFocalLength(const CameraModel& cam, const std::vector<StarObservation>& obs,
-                           const IdentifyResult& r, const StarDatabase& db);
 
 /// What a search may accept and how long it may run (solve's --ra/--dec/--radius and
 /// --cpulimit). The default accepts every verified solution and never stops early.
@@ -50,6 +46,12 @@ struct FovSearchResult {
   double search_ms = 0;              ///< total time of all tries [ms]
   bool cpu_limit_reached = false;    ///< the deadline stopped the search before its end
   std::string refused;               ///< why SearchLimits::refuse turned down the last solution
+  /// The camera fit of the final matches when the policy refines (focal length, distortion
+  /// with their uncertainties, residuals before/after); with a camera file, what it says
+  /// about the file (describeDiscrepancy).
+  std::optional<CameraFitResult> camera_fit;
+  double model_error_px = 0;  ///< what the fitted camera leaves unexplained (camera_fit.hpp)
+  bool healed = false;        ///< the given camera failed; a refined one solved
 };
 
 /// `identifier` options are used as given except scale_tolerance (set per try).
@@ -61,11 +63,13 @@ FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int w
                                    const std::vector<double>& hfov_grid, double scale_tolerance,
                                    double min_sigma_px = 0.02, const SearchLimits& limits = {});
 
-/// Identify with a known camera, then (if `fit_focal` and solved) fit the focal length and
-/// identify again; used by identifyUnknownFov and for a camera from --fov-deg.
+/// Identify with a camera as `policy` allows: as it is (fixed), or a candidate with scale
+/// slack whose matches fit the camera (rounds of fit -> re-match), then the strict
+/// identification with the fitted camera; a camera file is healed when it fails as it is.
+/// Used by identifyUnknownFov, solve (--fov-deg, --camera) and the tracker's lost-in-space.
 FovSearchResult identifyAndFit(const std::vector<Centroid>& centroids, const CameraModel& cam,
                                const StarDatabase& db, StarIdentifier& identifier,
-                               double scale_tolerance, bool fit_focal,
-                               double min_sigma_px = 0.02, const SearchLimits& limits = {});
+                               const CameraFitPolicy& policy, double min_sigma_px = 0.02,
+                               const SearchLimits& limits = {});
 
 }  // namespace st

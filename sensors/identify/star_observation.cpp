@@ -6,10 +6,12 @@
 namespace st {
 
 std::vector<StarObservation> toStarObservations(const std::vector<Centroid>& centroids,
-                                                const CameraModel& camera, double min_sigma_px) {
+                                                const CameraModel& camera, double min_sigma_px,
+                                                double model_error_px) {
   std::vector<StarObservation> out;
   out.reserve(centroids.size());
   const double min_sigma = min_sigma_px * camera.pixelScale();
+  const double model_var = std::pow(model_error_px * camera.pixelScale(), 2);
   for (const Centroid& c : centroids) {
     StarObservation o;
     o.px = c.px;
@@ -22,7 +24,7 @@ std::vector<StarObservation> toStarObservations(const std::vector<Centroid>& cen
     Eigen::Matrix<double, 3, 2> d = (Mat3::Identity() - o.v_cam * o.v_cam.transpose())
                                         .leftCols<2>() / p.norm();
     const Mat3 cov_u = d * cov_xy * d.transpose();
-    const double sigma = std::sqrt(std::max(0.0, cov_u.trace() / 2.0));
+    const double sigma = std::sqrt(std::max(0.0, cov_u.trace() / 2.0) + model_var);
     o.sigma = std::isfinite(sigma) ? std::max(sigma, min_sigma) : min_sigma;
     out.push_back(o);
   }

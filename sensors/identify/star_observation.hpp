@@ -21,9 +21,12 @@ struct StarObservation {
 /// plane of the unit sphere through the inverse pixel Jacobian (CameraModel::pixelJacobian)
 /// and the derivative of p/|p|, p = (x, y, 1); `sigma` is the RMS per axis sqrt(trace/2) of
 /// that 2x2 angular covariance, floored at `min_sigma_px` pixels (a centroid is never
-/// perfect: a zero covariance would give a star infinite weight). Order is kept.
+/// perfect: a zero covariance would give a star infinite weight). `model_error_px`, the
+/// camera model's own error (camera_fit.hpp modelErrorSigmaPx), adds in quadrature before
+/// the floor. Order is kept.
 std::vector<StarObservation> toStarObservations(const std::vector<Centroid>& centroids,
                                                 const CameraModel& camera,
-                                                double min_sigma_px = 0.02);
+                                                double min_sigma_px = 0.02,
+                                                double model_error_px = 0);
 
 }  // namespace st

@@ -84,7 +84,7 @@ void BM_SolveRealFrame(benchmark::State& state) {
   std::size_t solved = 0, runs = 0;
   for (auto _ : state) {
     const DetectionResult det = detectStars(img);
-    const FovSearchResult r = identifyAndFit(det.stars, cam, db, *id, 0.0, false, 0.5);
+    const FovSearchResult r = identifyAndFit(det.stars, cam, db, *id, CameraFitPolicy::fixed(), 0.5);
     benchmark::DoNotOptimize(r.result.q_ic);
     solved += r.result.solved();
     ++runs;
