@@ -87,8 +87,8 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
       ->check(CLI::Range(4, 100))
       ->capture_default_str();
   cmd->add_option("--min-sigma-px", o->min_sigma_px,
-                  "Floor of the centroid 1-sigma [px]: camera-model error (default 0.5 without a "
-                  "camera file, 0.1 with one)");
+                  "Floor of the centroid 1-sigma [px] (default 0.1); the camera model's own "
+                  "error is measured on the stars and added");
   addSearchOptions(*cmd, *o);
   cmd->callback([o, &run_fn] { run_fn = [o] { return runSolve(*o); }; });
 }

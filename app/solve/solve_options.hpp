@@ -26,7 +26,7 @@ struct SolveOptions {
   double mag_limit = 6.6;
   double epoch = 0;  ///< 0 = from the image (else the database's, else today)
   int max_stars = 12;
-  double min_sigma_px = -1;  ///< <0: 0.5 px without a camera file, 0.1 px with one
+  double min_sigma_px = -1;  ///< <0: 0.1 px (the model-error term adds the rest)
   std::string annotate;      ///< PNG path for a labelled picture of the solved frame
   std::string parity = "both";
   double ra_deg = NAN, dec_deg = NAN, radius_deg = NAN;  ///< position hint (all or none)

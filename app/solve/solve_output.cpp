@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include "app/annotate.hpp"
+#include "app/solve/camera_report.hpp"
+#include "common/log.hpp"
 #include "common/conventions.hpp"
 
 namespace st::app {
@@ -65,6 +67,7 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
       {"epoch_jyear", r.epoch.jyear}, {"epoch_source", r.epoch.source},
       {"database", r.db_source}, {"database_epoch_jyear", r.db.params().epoch_jyear},
       {"catalog", r.db.report().catalog_name}, {"catalog_id", idLabel(r)}};
+  j["camera"] = cameraJson(r);
   j["stars"] = starsJson(r);
   j["timing_ms"] = {{"load", r.ms.load},         {"detect", r.ms.detect},
                     {"database", r.ms.database}, {"identify", r.ms.identify},
@@ -111,6 +114,7 @@ void printSolutionText(const SolveReport& r) {
               r.db.stars().size(), r.db.params().epoch_jyear, r.db.report().catalog_name.c_str());
   std::printf("camera     %s (HFOV %.4f deg%s)\n", cam.describe().c_str(),
               rad2deg(cam.horizontalFov()), r.focal_fitted ? ", focal length fitted" : "");
+  printCameraFitText(r);
   std::printf("solved     %s + %s, %d hypotheses, %d FOV(s) tried, false-match P %.2e\n",
               res.algorithm.c_str(), r.o.solver.c_str(), res.hypotheses_tried,
               r.ps.search.fovs_tried, res.false_match_probability);

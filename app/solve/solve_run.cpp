@@ -9,6 +9,7 @@
 
 #include "app/command.hpp"
 #include "app/output_file.hpp"
+#include "app/solve/camera_report.hpp"
 #include "app/solve/frame_input.hpp"
 #include "app/solve/solve_epoch.hpp"
 #include "app/solve/solve_options.hpp"
@@ -104,7 +105,7 @@ PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const Sta
   if (!identifier) throw InputError("--algorithm: " + err);
   if (!WahbaSolver::create(o.solver, &err)) throw InputError("--solver: " + err);
   const double sigma_floor =
-      o.min_sigma_px >= 0 ? o.min_sigma_px : (o.camera.camera_file.empty() ? 0.5 : 0.1);
+      o.min_sigma_px >= 0 ? o.min_sigma_px : 0.1;
   SearchLimits limits;
   if (const auto hint = o.positionHint()) limits.refuse = refuseOutsideHint(*hint);
   if (o.cpulimit_s > 0)
@@ -158,6 +159,7 @@ int solveAndReport(const SolveOptions& o, bool& printed) {
     log::error("%s: not solved: %s", o.input.c_str(), rep.failure.c_str());
     return kExitFailure;
   }
+  if (const std::string d = cameraDiscrepancy(rep); !d.empty()) log::warn("%s", d.c_str());
   if (o.json)
     printJson(solutionJson(rep));
   else

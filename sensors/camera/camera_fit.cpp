@@ -323,7 +323,7 @@ CameraFitResult fitCamera(const CameraModel& start, const std::vector<FrameStars
     int dropped = 0;
     for (std::size_t j = 0; j < frames.size(); ++j)
       for (std::size_t k = 0; k < frames[j].size(); ++k)
-        if (use[j][k] && r[j][k] / (frames[j].sigma_px[k] * scale) > options.outlier_sigma * std::sqrt(2.0))
+        if (use[j][k] && r[j][k] / (frames[j].sigma_px[k] * scale) > options.outlier_sigma)
           use[j][k] = 0, ++dropped;
     if (dropped == 0) break;
     res.outliers += dropped;
@@ -340,6 +340,7 @@ CameraFitResult fitCamera(const CameraModel& start, const std::vector<FrameStars
     rmsOf(residualNorms(start, frames, q0), use, res.rms_before_px, res.frame_rms_before_px);
   }
   rmsOf(residualNorms(res.camera, frames, res.q_ic), use, res.rms_after_px, res.frame_rms_after_px);
+  res.used = std::move(use);
   res.ok = true;
   return res;
 }
@@ -368,7 +369,8 @@ double modelErrorSigmaPx(const CameraFitResult& fit, const std::vector<FrameStar
     double c = 0;
     for (std::size_t j = 0; j < frames.size(); ++j)
       for (std::size_t k = 0; k < frames[j].size(); ++k)
-        c += r[j][k] * r[j][k] / (frames[j].sigma_px[k] * frames[j].sigma_px[k] + s2);
+        if (fit.used[j][k])
+          c += r[j][k] * r[j][k] / (frames[j].sigma_px[k] * frames[j].sigma_px[k] + s2);
     return c;
   };
   // chi2With decreases monotonically in s2: bisect chi2With(s2) = dof.

@@ -88,6 +88,7 @@ struct CameraFitResult {
   int dof = 0;                       ///< 2 n_stars - free parameters
   int stars = 0;                     ///< stars used (outliers excluded)
   int outliers = 0;
+  std::vector<std::vector<char>> used;  ///< per frame and star: 0 for an excluded outlier
   double rms_before_px = 0, rms_after_px = 0;  ///< over all stars used
   std::vector<double> frame_rms_before_px, frame_rms_after_px;
   int iterations = 0;

@@ -42,6 +42,11 @@ FrameStars frameStarsOf(const std::vector<StarObservation>& obs, const IdentifyR
 CameraFitResult fitCameraToMatches(const CameraModel& cam, const std::vector<StarObservation>& obs,
                                    const IdentifyResult& r, const StarDatabase& db,
                                    const CameraFitPolicy& policy) {
+  return fitCameraToStars(cam, frameStarsOf(obs, r, db, cam), policy);
+}
+
+CameraFitResult fitCameraToStars(const CameraModel& cam, const FrameStars& stars,
+                                 const CameraFitPolicy& policy) {
   CameraFitSpec spec;
   spec.focal = policy.fit_focal;
   spec.radial_terms = policy.radial_terms;
@@ -54,8 +59,11 @@ CameraFitResult fitCameraToMatches(const CameraModel& cam, const std::vector<Sta
     start[kK2] = policy.prior ? policy.prior->mean[kK2] : 0.0;
   }
   const CameraModel from = withCameraParams(cam, start);
-  return fitCameraChoosingRadial(from, {frameStarsOf(obs, r, db, cam)}, spec,
-                                 policy.prior ? &*policy.prior : nullptr);
+  // A star matched wrongly (or a blend) must not bend the lens: 5-sigma outliers are left out.
+  CameraFitOptions options;
+  options.outlier_sigma = 5;
+  return fitCameraChoosingRadial(from, {stars}, spec, policy.prior ? &*policy.prior : nullptr,
+                                 options);
 }
 
 RefinedCandidate refineFromCandidate(const std::vector<Centroid>& centroids,

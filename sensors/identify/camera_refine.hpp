@@ -46,6 +46,10 @@ CameraFitResult fitCameraToMatches(const CameraModel& cam, const std::vector<Sta
                                    const IdentifyResult& r, const StarDatabase& db,
                                    const CameraFitPolicy& policy);
 
+/// The same fit of stars already gathered (one frame).
+CameraFitResult fitCameraToStars(const CameraModel& cam, const FrameStars& stars,
+                                 const CameraFitPolicy& policy);
+
 struct RefinedCandidate {
   IdentifyResult result;             ///< the candidate with the matches of the last round
   CameraModel camera;                ///< fitted in the last round

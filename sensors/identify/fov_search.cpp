@@ -54,16 +54,6 @@ constexpr double kCandidateSigmaFloorPx = 0.5;
 /// this is not one a star tracker can verify against (and a wrong match's scatter is larger).
 constexpr double kMaxModelErrorPx = 1.0;
 
-/// The model-error term (camera_fit.hpp) of the matches of `r` seen through `cam` with the
-/// strict centroid sigmas `obs`, capped at kMaxModelErrorPx.
-double modelErrorOf(const std::vector<StarObservation>& obs, const IdentifyResult& r,
-                    const StarDatabase& db, const CameraModel& cam) {
-  const std::vector<FrameStars> frames = {frameStarsOf(obs, r, db, cam)};
-  CameraFitSpec nothing_free;
-  nothing_free.focal = false;
-  return std::min(kMaxModelErrorPx, modelErrorSigmaPx(fitCamera(cam, frames, nothing_free), frames));
-}
-
 /// Candidate (with slack when the policy refines) -> fit -> re-match rounds -> the strict
 /// identification with the fitted camera, its centroid sigmas widened by what the fitted
 /// camera leaves unexplained (the model-error term).
@@ -81,12 +71,26 @@ FovSearchResult candidateAndRefine(const std::vector<Centroid>& centroids, const
   if (!out.result.solved() || !policy.refines()) return out;
   RefinedCandidate rc = refineFromCandidate(centroids, cam, out.obs, out.result, db,
                                             identifier.options(), policy, floor_px);
-  const double model_px =
-      modelErrorOf(toStarObservations(centroids, rc.camera, min_sigma_px), rc.result, db, rc.camera);
-  std::vector<StarObservation> obs = toStarObservations(centroids, rc.camera, min_sigma_px, model_px);
-  IdentifyResult strict = identifyWith(identifier, obs, db, rc.camera, 0, false);
+  // The last fit once more with the strict centroid sigmas (the rounds' floor hides terms
+  // the stars support); what it leaves unexplained is the model-error term.
+  const FrameStars stars = frameStarsOf(toStarObservations(centroids, rc.camera, min_sigma_px),
+                                        rc.result, db, rc.camera);
+  CameraFitResult fit = fitCameraToStars(rc.camera, stars, policy);
+  if (!fit.ok) {
+    fit = fitCamera(rc.camera, {stars}, CameraFitSpec{false, false, false, 0});
+    if (!fit.ok) {
+      if (candidate_pass) {  // a candidate is never an answer
+        out.result.status = IdentifyStatus::Rejected;
+        out.result.reason = "candidate at the approximate focal length: " + fit.reason;
+      }
+      return out;
+    }
+  }
+  const double model_px = std::min(kMaxModelErrorPx, modelErrorSigmaPx(fit, {stars}));
+  std::vector<StarObservation> obs = toStarObservations(centroids, fit.camera, min_sigma_px, model_px);
+  IdentifyResult strict = identifyWith(identifier, obs, db, fit.camera, 0, false);
   if (strict.solved()) {
-    out.camera = rc.camera;
+    out.camera = fit.camera;
     out.obs = std::move(obs);
     out.result = std::move(strict);
     out.model_error_px = model_px;
