@@ -3,6 +3,7 @@
 
 namespace st::app {
 
+void addCalibrateCommand(CLI::App& root, CommandRun& run);
 void addCameraCommand(CLI::App& root, CommandRun& run);
 void addCatalogCommand(CLI::App& root, CommandRun& run);
 void addConfigCommand(CLI::App& root, CommandRun& run);
@@ -13,6 +14,7 @@ void addSimulateCommand(CLI::App& root, CommandRun& run);
 void addSolveCommand(CLI::App& root, CommandRun& run);
 
 void addAllCommands(CLI::App& root, CommandRun& run) {
+  addCalibrateCommand(root, run);
   addCameraCommand(root, run);
   addCatalogCommand(root, run);
   addConfigCommand(root, run);

@@ -1,0 +1,229 @@
+// `startracker calibrate IMAGE...|DIR -o camera.yaml`: a camera calibration with the stars
+// as targets. Every frame is plate-solved (its focal length and distortion fitted on its
+// own), then one joint fit (sensors/camera/camera_fit.hpp) estimates fx, fy, cx, cy, k1 and
+// k2 from all frames' stars with each frame's attitude a nuisance parameter, and writes the
+// OpenCV YAML that --camera reads.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "app/camera_options.hpp"
+#include "app/cli/validators.hpp"
+#include "app/command.hpp"
+#include "app/image_io.hpp"
+#include "app/output_file.hpp"
+#include "catalog/database_recipe.hpp"
+#include "catalog/star_catalog.hpp"
+#include "common/conventions.hpp"
+#include "common/errors.hpp"
+#include "common/log.hpp"
+#include "common/progress.hpp"
+#include "sensors/detect/star_detector.hpp"
+#include "sensors/identify/fov_search.hpp"
+
+namespace st::app {
+namespace {
+
+struct CalibrateOptions {
+  std::vector<std::string> inputs;
+  std::string output;
+  CameraOptions camera;  ///< the start (optional: else a FOV search)
+  std::vector<double> fov_range_deg = {5, 30};
+  std::string database;
+  double epoch = 0;
+  double mag_limit = 6.5;
+  int radial_terms = 2;
+  bool fix_principal_point = false, square_pixels = false;
+};
+
+bool isImageName(const std::filesystem::path& p) {
+  std::string e = p.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), ::tolower);
+  for (const char* x : {".tif", ".tiff", ".png", ".jpg", ".jpeg", ".pgm", ".fits", ".fit", ".fts"})
+    if (e == x) return true;
+  return false;
+}
+
+/// The inputs with every directory replaced by its images (sorted).
+std::vector<std::string> imageFiles(const std::vector<std::string>& inputs) {
+  std::vector<std::string> out;
+  for (const std::string& in : inputs) {
+    if (!std::filesystem::is_directory(in)) {
+      if (!std::filesystem::is_regular_file(in)) throw InputError(in + ": no such file or directory");
+      out.push_back(in);
+      continue;
+    }
+    std::vector<std::string> here;
+    for (const auto& e : std::filesystem::directory_iterator(in))
+      if (e.is_regular_file() && isImageName(e.path())) here.push_back(e.path().string());
+    if (here.empty()) throw InputError(in + ": no images (.tif .png .jpg .pgm .fits) in this folder");
+    std::sort(here.begin(), here.end());
+    out.insert(out.end(), here.begin(), here.end());
+  }
+  return out;
+}
+
+/// The star database: --database, or built in memory for the widest field searched.
+StarDatabase database(const CalibrateOptions& o, int w, int h, double epoch) {
+  if (!o.database.empty()) return StarDatabase::load(o.database);
+  CameraDatabaseRecipe r;
+  const CameraModel widest = o.camera.given() ? o.camera.resolve(w, h)
+                                              : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[1]));
+  const CameraModel finest = o.camera.given() ? widest : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[0]));
+  r.diagonal_fov_rad = 2 * widest.halfDiagonalFov() * 1.05;
+  r.pixel_scale_rad = finest.pixelScale();
+  r.mag_limit = o.mag_limit;
+  r.epoch_jyear = epoch;
+  return StarDatabase::build(loadCatalog(StarDatabase::defaultCatalogPath()), databaseParams(r));
+}
+
+struct SolvedFrame {
+  std::string file;
+  FrameStars stars;
+  CameraModel camera;  ///< the frame's own sky fit
+};
+
+/// Plate-solves one frame: with the camera of an earlier frame (1 % slack) when there is
+/// one, else --camera / --fov-deg, else a FOV search.
+std::optional<SolvedFrame> solveFrame(const std::string& file, const cv::Mat& image,
+                                      const StarDatabase& db, const CalibrateOptions& o,
+                                      const std::optional<CameraModel>& known,
+                                      StarIdentifier& identifier) {
+  const DetectionResult det = detectStars(image);
+  if (!det.reason.empty() || det.stars.size() < 4) {
+    log::warn("%s: skipped: too few stars detected (%zu)", file.c_str(), det.stars.size());
+    return std::nullopt;
+  }
+  constexpr double kFloorPx = 0.1;
+  FovSearchResult r;
+  if (known)
+    r = identifyAndFit(det.stars, *known, db, identifier, CameraFitPolicy::approximateFov(0.01), kFloorPx);
+  else if (o.camera.given())
+    r = identifyAndFit(det.stars, o.camera.resolve(image.cols, image.rows), db, identifier,
+                       o.camera.camera_file.empty() ? CameraFitPolicy::approximateFov(0.01)
+                                                    : CameraFitPolicy::cameraFile(o.camera.resolve(image.cols, image.rows)),
+                       kFloorPx);
+  else
+    r = identifyUnknownFov(det.stars, image.cols, image.rows, db, identifier,
+                           fovSearchGrid(deg2rad(o.fov_range_deg[0]), deg2rad(o.fov_range_deg[1]), 0.02),
+                           0.02, kFloorPx);
+  if (!r.result.solved()) {
+    log::warn("%s: skipped: not solved: %s", file.c_str(), r.result.reason.c_str());
+    return std::nullopt;
+  }
+  // The calibration weighs each star by its own centroid sigma, not by this frame's
+  // model-error term (that is what the calibration removes).
+  const auto obs = toStarObservations(det.stars, r.camera, kFloorPx);
+  return SolvedFrame{file, frameStarsOf(obs, r.result, db, r.camera), r.camera};
+}
+
+CameraFitResult jointFit(const std::vector<SolvedFrame>& solved, const CalibrateOptions& o,
+                         std::vector<FrameStars>& frames) {
+  for (const SolvedFrame& s : solved) frames.push_back(s.stars);
+  // Start: the first frame's focal length, no distortion.
+  const CameraModel& c0 = solved.front().camera;
+  const CameraModel start(c0.width(), c0.height(), c0.fx(), c0.fy(), c0.cx(), c0.cy());
+  CameraFitSpec spec;
+  spec.aspect = !o.square_pixels;
+  spec.principal_point = !o.fix_principal_point;
+  spec.radial_terms = o.radial_terms;
+  // A principal-point shift is almost a rotation of each narrow frame: a weak prior at the
+  // image centre (5 % of the width) keeps it determined; the stars overrule it where they can.
+  const CameraPrior prior = CameraPrior::around(start, 0, 0.05 * start.width(), 0);
+  CameraFitOptions fo;
+  fo.outlier_sigma = 5;
+  return fitCameraChoosingRadial(start, frames, spec, &prior, fo);
+}
+
+void printReport(const std::vector<SolvedFrame>& solved, const CameraFitResult& fit,
+                 double model_px) {
+  std::printf("%-50s %6s %12s %12s\n", "frame", "stars", "before [px]", "after [px]");
+  for (std::size_t j = 0; j < solved.size(); ++j)
+    std::printf("%-50s %6zu %12.3f %12.3f\n",
+                std::filesystem::path(solved[j].file).filename().string().c_str(),
+                solved[j].stars.size(), fit.frame_rms_before_px[j], fit.frame_rms_after_px[j]);
+  std::printf("all frames: %d stars (%d outliers left out), RMS %.3f -> %.3f px, chi2 %.1f for %d dof, "
+              "model error %.3f px\n",
+              fit.stars, fit.outliers, fit.rms_before_px, fit.rms_after_px, fit.chi2, fit.dof, model_px);
+  const auto line = [&](const char* name, CameraParam p) {
+    if (fit.sigma(p) > 0)
+      std::printf("  %-3s %14.6f +- %.6f\n", name, fit.theta[p], fit.sigma(p));
+    else
+      std::printf("  %-3s %14.6f (fixed)\n", name, fit.theta[p]);
+  };
+  line("fx", kFx), line("fy", kFy), line("cx", kCx), line("cy", kCy), line("k1", kK1), line("k2", kK2);
+  std::printf("  radial terms the stars support: %d; HFOV %.4f deg\n", fit.spec.radial_terms,
+              rad2deg(fit.camera.horizontalFov()));
+}
+
+int runCalibrate(const CalibrateOptions& o) {
+  if (o.fov_range_deg.size() != 2 || !(o.fov_range_deg[0] > 0) || o.fov_range_deg[1] < o.fov_range_deg[0])
+    throw InputError("--fov-range needs MIN MAX in degrees with 0 < MIN <= MAX");
+  prepareOutputFile(o.output, "-o");
+  const std::vector<std::string> files = imageFiles(o.inputs);
+  LoadedImage first = loadImage(files.front());
+  const double epoch = o.epoch > 0 ? o.epoch : first.epoch_jyear.value_or(2025.0);
+  if (o.epoch <= 0)
+    log::info("epoch %.2f (%s)", epoch, first.epoch_jyear ? first.epoch_source.c_str() : "no date in the first frame: 2025.0; give --epoch");
+  const StarDatabase db = database(o, first.image.cols, first.image.rows, epoch);
+  auto identifier = StarIdentifier::create(StarIdentifier::defaultName());
+  std::vector<SolvedFrame> solved;
+  std::optional<CameraModel> known;
+  ProgressBar bar("solving", files.size());
+  for (const std::string& f : files) {
+    const LoadedImage img = f == files.front() ? first : loadImage(f);
+    if (img.image.cols != first.image.cols || img.image.rows != first.image.rows)
+      throw InputError(f + ": " + std::to_string(img.image.cols) + "x" + std::to_string(img.image.rows) +
+                       " px, but " + files.front() + " is " + std::to_string(first.image.cols) + "x" +
+                       std::to_string(first.image.rows) + ": one camera, one image size");
+    if (auto s = solveFrame(f, img.image, db, o, known, *identifier)) {
+      if (!known) known = s->camera;
+      solved.push_back(std::move(*s));
+    }
+    bar.increment();
+  }
+  bar.finish();
+  if (solved.empty()) {
+    log::error("no frame solved: nothing to calibrate from");
+    return kExitFailure;
+  }
+  std::vector<FrameStars> frames;
+  const CameraFitResult fit = jointFit(solved, o, frames);
+  if (!fit.ok) {
+    log::error("calibration failed: %s", fit.reason.c_str());
+    return kExitFailure;
+  }
+  printReport(solved, fit, modelErrorSigmaPx(fit, frames));
+  fit.camera.saveYaml(o.output);
+  std::printf("wrote %s (%zu of %zu frames solved)\n", o.output.c_str(), solved.size(), files.size());
+  return kExitOk;
+}
+
+}  // namespace
+
+void addCalibrateCommand(CLI::App& root, CommandRun& run) {
+  auto* cmd = root.add_subcommand(
+      "calibrate", "Calibrate a camera from star frames: fx fy cx cy k1 k2 -> OpenCV YAML");
+  auto o = std::make_shared<CalibrateOptions>();
+  cmd->add_option("inputs", o->inputs, "Images or folders of images of one camera")->required();
+  cmd->add_option("-o,--output", o->output, "Camera file to write (OpenCV YAML, --camera reads it)")
+      ->required();
+  o->camera.addTo(*cmd);
+  cmd->add_option("--fov-range", o->fov_range_deg, "FOV search range without --camera/--fov-deg [deg]")
+      ->expected(2)
+      ->capture_default_str();
+  cmd->add_option("--database", o->database, "Star database file (default: built in memory)");
+  cmd->add_option("--epoch", o->epoch, "Observation epoch, Julian year (default: from the first file's name or DATE-OBS)");
+  cmd->add_option("--mag-limit", o->mag_limit, "Faintest stars of the in-memory database [V]")
+      ->capture_default_str();
+  cmd->add_option("--radial-terms", o->radial_terms, "Radial distortion terms at most (0, 1 or 2; kept only where the stars support them)")
+      ->check(CLI::Range(0, 2))
+      ->capture_default_str();
+  cmd->add_flag("--fix-principal-point", o->fix_principal_point, "Keep cx, cy at the image centre");
+  cmd->add_flag("--square-pixels", o->square_pixels, "Keep fy / fx (one focal length)");
+  cmd->callback([o, &run] { run = [o] { return runCalibrate(*o); }; });
+}
+
+}  // namespace st::app
