@@ -203,15 +203,23 @@ PYBIND11_MODULE(_startracker, m) {
   py::class_<st::api::Tracker>(m, "Tracker")
       .def(py::init([](int width, int height, std::optional<double> fov_deg,
                        const std::string& camera, std::optional<st::api::Database> database,
-                       double mag_limit, std::optional<double> epoch) {
+                       double mag_limit, std::optional<double> epoch,
+                       std::optional<double> min_sigma_px, std::optional<double> tracking_min_sigma_px) {
              const st::CameraModel cam = trackerCamera(width, height, fov_deg, camera);
+             st::TrackerOptions opts;
+             if (min_sigma_px) opts.min_sigma_px = *min_sigma_px;
+             if (tracking_min_sigma_px) opts.tracking_min_sigma_px = *tracking_min_sigma_px;
              py::gil_scoped_release nogil;
              if (!database) database = st::api::Database::forCamera(cam, mag_limit, epoch.value_or(0));
-             return std::make_unique<st::api::Tracker>(cam, st::TrackerOptions{}, database);
+             return std::make_unique<st::api::Tracker>(cam, opts, database);
            }),
            py::arg("width"), py::arg("height"), py::arg("fov_deg") = py::none(),
            py::arg("camera") = "", py::arg("database") = py::none(), py::arg("mag_limit") = 6.6,
-           py::arg("epoch") = py::none())
+           py::arg("epoch") = py::none(), py::arg("min_sigma_px") = py::none(),
+           py::arg("tracking_min_sigma_px") = py::none(),
+           "A per-frame tracker for a camera (fov_deg: horizontal FOV, or camera=OpenCV YAML). "
+           "min_sigma_px / tracking_min_sigma_px floor the centroid sigma of lost-in-space / "
+           "tracking (TrackerOptions; an uncalibrated lens needs ~0.5 px, as solve uses)")
       .def(
           "process",
           [](st::api::Tracker& t, py::array image, double time_s,

@@ -111,11 +111,14 @@ def test_database_object_and_fov_search():
 
 def test_tracker_lost_in_space_then_tracking_with_a_gyro_rate():
     img = startracker.read_image(str(FRAMES[2]))
-    t = startracker.Tracker(1024, 768, fov_deg=FOV, epoch=2019.574)
+    s = startracker.solve_file(str(FRAMES[2]), fov_deg=FOV)
+    # The camera as solve fitted it, no calibration file: solve's 0.5 px sigma floor.
+    t = startracker.Tracker(1024, 768, fov_deg=s["hfov_deg"], epoch=s["epoch_jyear"],
+                            min_sigma_px=0.5, tracking_min_sigma_px=0.5)
     a = t.process(img, 0.0)
     b = t.process(img, 0.1, rate=(0.0, 0.0, 0.0))
     assert a["mode"] == "lost-in-space" and a["has_attitude"]
-    assert b["mode"] == "tracking" and b["has_attitude"], b
+    assert b["mode"] == "tracking" and b["has_attitude"] and b["prediction"] == "gyro", b
     assert len(b["stars"]) >= 4
     assert b["ra_deg"] == pytest.approx(a["ra_deg"], abs=0.01)
     with pytest.raises(ValueError, match="1024x768"):

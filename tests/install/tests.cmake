@@ -21,13 +21,13 @@ add_test(NAME install_consumer
          COMMAND sh -c "rm -rf consumer-build && '${CMAKE_COMMAND}' -S '${CMAKE_CURRENT_SOURCE_DIR}/install/consumer' -B consumer-build -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH='${ST_TEST_PREFIX}' ${_launcher} >/dev/null && '${CMAKE_COMMAND}' --build consumer-build >/dev/null && consumer-build/consumer '${_frames}'/*.tiff"
          WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(install_consumer PROPERTIES FIXTURES_REQUIRED st_installed LABELS install
-                     PASS_REGULAR_EXPRESSION "solved 8 of 8; tracker: lost-in-space then tracking")
+                     PASS_REGULAR_EXPRESSION "solved 8 of 8, tracker: lost-in-space then tracking")
 
 add_test(NAME install_pkgconfig
          COMMAND sh -c "PKG_CONFIG_PATH='${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig' && export PKG_CONFIG_PATH && ${CMAKE_CXX_COMPILER} -O1 -o consumer-pc '${CMAKE_CURRENT_SOURCE_DIR}/install/consumer/main.cpp' $(pkg-config --cflags --libs startracker) && ./consumer-pc '${_frames}'/*Alt60_Azi45*.tiff"
          WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(install_pkgconfig PROPERTIES FIXTURES_REQUIRED st_installed LABELS install
-                     PASS_REGULAR_EXPRESSION "solved 1 of 1; tracker: lost-in-space then tracking")
+                     PASS_REGULAR_EXPRESSION "solved 1 of 1, tracker: lost-in-space then tracking")
 
 if(TARGET _startracker)
   add_test(NAME install_python
