@@ -18,9 +18,11 @@ import pathlib as _pathlib
 # An installed tree keeps the catalog in <prefix>/share/startracker; the module lives in
 # <prefix>/lib/python3/dist-packages/startracker. The C++ core looks beside the program
 # (python3 here), so point it at the module's own tree when the user did not.
-_share = _pathlib.Path(__file__).resolve().parents[4] / "share" / "startracker"
-if "STARTRACKER_DATA_DIR" not in _os.environ and (_share / "hip_main_v6.6.dat.gz").exists():
-    _os.environ["STARTRACKER_DATA_DIR"] = str(_share)
+_parents = _pathlib.Path(__file__).resolve().parents
+if "STARTRACKER_DATA_DIR" not in _os.environ and len(_parents) > 4:
+    _share = _parents[4] / "share" / "startracker"
+    if (_share / "hip_main_v6.6.dat.gz").exists():
+        _os.environ["STARTRACKER_DATA_DIR"] = str(_share)
 
 from ._startracker import (  # noqa: E402
     Database, Tracker, data_dir, read_image, solve, solve_file, version)

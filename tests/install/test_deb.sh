@@ -5,7 +5,8 @@
 #  - the package declares the MRPT component runtime packages, not the metapackage;
 #  - the unpacked /usr/bin/startracker solves a real frame with the catalog of the unpacked
 #    tree (found beside the program, no environment variable), and so does the unpacked
-#    Python module.
+#    Python module;
+#  - MRPT's rawlog-edit loads the unpacked plugin by its bare name.
 # usage: test_deb.sh BUILD_DIR WORK_DIR FRAMES_DIR
 set -eu
 build=$1 work=$2 frames=$3
@@ -44,4 +45,9 @@ r = startracker.solve(startracker.read_image(sys.argv[1]), fov_deg=11.4)
 assert r["solved"], r
 print("python from the .deb: solved, RA %.3f Dec %.3f, %d stars" % (r["ra_deg"], r["dec_deg"], r["stars_matched"]))
 PY
+# MRPT's tools dlopen() what -p names: a bare name finds the plugin in the loader's path
+# (/usr/lib when installed; the unpacked root's here). A failed load only prints an error.
+rawlog="$frames/../../../rawlogs/hold.rawlog"
+log=$(LD_LIBRARY_PATH="$work/root/usr/lib" rawlog-edit -p libstartracker_mrpt.so --info -i "$rawlog" 2>&1)
+if echo "$log" | grep -q "Error loading"; then echo "$log" | head -5; exit 1; fi
 echo "package_deb: ok"
