@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <numeric>
 
 #include "catalog/epoch_correction.hpp"
@@ -54,7 +56,22 @@ bool DatabaseParams::isValid(std::string* why) const {
 }
 
 std::string StarDatabase::defaultCatalogPath() {
-  return std::string(ST_CATALOG_DATA_DIR) + "/hip_main_v6.6.dat.gz";
+  // An installed tree or an extracted .deb is found from the program's own place, so it
+  // works wherever it was unpacked; $STARTRACKER_DATA_DIR overrides (a Python interpreter's
+  // place says nothing about the module's).
+  namespace fs = std::filesystem;
+  static const std::string kFile = "hip_main_v6.6.dat.gz";
+  if (const char* env = std::getenv("STARTRACKER_DATA_DIR"); env && *env)
+    return (fs::path(env) / kFile).string();
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "startracker" / kFile;
+    if (fs::exists(installed, ec)) return installed.string();
+  }
+  const fs::path source = fs::path(ST_CATALOG_DATA_DIR) / kFile;
+  if (fs::exists(source, ec)) return source.string();
+  return (fs::path(ST_CATALOG_INSTALL_DIR) / kFile).string();
 }
 
 StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params) {

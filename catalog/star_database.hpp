@@ -82,7 +82,7 @@ class StarDatabase {
   /// The same, calling `progress` with a one-line message before each step (for the CLI).
   using ProgressFn = std::function<void(const std::string&)>;
   static StarDatabase build(const StarCatalog&, const DatabaseParams&, const ProgressFn& progress);
-  static std::string defaultCatalogPath();  ///< catalog/data/hip_main_v6.6.dat.gz
+  static std::string defaultCatalogPath();  ///< hip_main_v6.6.dat.gz in $STARTRACKER_DATA_DIR, else <program>/../share/startracker, else catalog/data
   /// Writes the versioned binary file; throws InputError if it cannot be written.
   void save(const std::string& path) const;
   /// InputError (naming the file) on bad magic/version/checksum or a truncated file. Reads

@@ -1,0 +1,106 @@
+# Install rules, the CMake package (find_package(startracker)) and the pkg-config file.
+# Layout under the prefix:
+#   bin/startracker                          the program
+#   <libdir>/libstartracker_mrpt.so, _sim.so  MRPT plugins: MRPT's tools dlopen() what -p
+#                                             names, so a bare `-p libstartracker_mrpt.so`
+#                                             finds them in the loader's path (/usr/lib/...)
+#   <libdir>/libst_*.a                       the static libraries of the public API
+#   include/startracker/startracker.hpp      the public API; the stage headers it includes
+#                                             keep their paths below include/startracker/
+#   share/startracker/                       the catalog (StarDatabase::defaultCatalogPath
+#                                             finds it from <program>/../share/startracker)
+#   <libdir>/cmake/startracker/, <libdir>/pkgconfig/startracker.pc
+include(CMakePackageConfigHelpers)
+
+set(ST_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/startracker)
+set(ST_DATA_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/startracker)
+# Link order of the static libraries (each before what it uses): pkg-config needs it spelled.
+set(ST_EXPORTED_LIBS st_api st_fusion st_sensors_tracking st_sensors_identify st_sensors_detect
+    st_sensors_attitude st_sensors_camera st_catalog st_config st_common)
+
+install(TARGETS startracker RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+install(TARGETS startracker_mrpt startracker_sim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        COMPONENT runtime)
+install(FILES ${ST_ROOT}/catalog/data/hip_main_v6.6.dat.gz ${ST_ROOT}/catalog/data/bsc5
+              ${ST_ROOT}/catalog/data/README.md
+        DESTINATION ${ST_DATA_INSTALL_DIR} COMPONENT runtime)
+
+install(TARGETS ${ST_EXPORTED_LIBS} st_warnings EXPORT startrackerTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
+install(FILES ${ST_ROOT}/include/startracker/startracker.hpp
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/startracker COMPONENT dev)
+install(DIRECTORY ${ST_ROOT}/common ${ST_ROOT}/config ${ST_ROOT}/catalog ${ST_ROOT}/sensors
+                  ${ST_ROOT}/fusion
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/startracker COMPONENT dev
+        FILES_MATCHING PATTERN "*.hpp"
+        PATTERN "data" EXCLUDE PATTERN "sim" EXCLUDE PATTERN "plugin" EXCLUDE)
+install(EXPORT startrackerTargets NAMESPACE startracker:: DESTINATION ${ST_CMAKE_INSTALL_DIR}
+        COMPONENT dev)
+configure_package_config_file(${ST_ROOT}/cmake/startrackerConfig.cmake.in
+  ${CMAKE_BINARY_DIR}/startrackerConfig.cmake
+  INSTALL_DESTINATION ${ST_CMAKE_INSTALL_DIR} PATH_VARS ST_DATA_INSTALL_DIR)
+write_basic_package_version_file(${CMAKE_BINARY_DIR}/startrackerConfigVersion.cmake
+  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_BINARY_DIR}/startrackerConfig.cmake
+              ${CMAKE_BINARY_DIR}/startrackerConfigVersion.cmake
+        DESTINATION ${ST_CMAKE_INSTALL_DIR} COMPONENT dev)
+
+# pkg-config: MRPT ships no .pc files, so its include folders and libraries are spelled out
+# from its imported targets (walked through their interface links).
+function(st_collect_imported target incs_var libs_var)
+  set(incs ${${incs_var}})
+  set(libs ${${libs_var}})
+  if(NOT TARGET ${target} OR ${target} IN_LIST ST_SEEN)
+    return()
+  endif()
+  set(ST_SEEN ${ST_SEEN} ${target} PARENT_SCOPE)
+  get_target_property(inc ${target} INTERFACE_INCLUDE_DIRECTORIES)
+  if(inc)
+    list(APPEND incs ${inc})
+  endif()
+  get_target_property(cfgs ${target} IMPORTED_CONFIGURATIONS)  # Debian's MRPT: NONE
+  set(props IMPORTED_LOCATION)
+  foreach(c ${cfgs})
+    list(APPEND props IMPORTED_LOCATION_${c})
+  endforeach()
+  foreach(prop ${props})
+    get_target_property(loc ${target} ${prop})
+    if(loc)
+      list(APPEND libs ${loc})
+      break()
+    endif()
+  endforeach()
+  get_target_property(deps ${target} INTERFACE_LINK_LIBRARIES)
+  foreach(d ${deps})
+    if(TARGET ${d} AND d MATCHES "^mrpt::")
+      st_collect_imported(${d} incs libs)
+    endif()
+  endforeach()
+  set(${incs_var} ${incs} PARENT_SCOPE)
+  set(${libs_var} ${libs} PARENT_SCOPE)
+  set(ST_SEEN ${ST_SEEN} PARENT_SCOPE)
+endfunction()
+set(ST_SEEN "")
+set(_mrpt_incs "")
+set(_mrpt_libs "")
+st_collect_imported(mrpt::img _mrpt_incs _mrpt_libs)
+st_collect_imported(mrpt::config _mrpt_incs _mrpt_libs)
+list(REMOVE_DUPLICATES _mrpt_incs)
+list(REMOVE_DUPLICATES _mrpt_libs)
+set(ST_PC_CFLAGS "")
+list(REMOVE_ITEM _mrpt_incs /usr/include)  # a system folder as -I breaks #include_next
+foreach(i ${_mrpt_incs})
+  string(APPEND ST_PC_CFLAGS " -I${i}")
+endforeach()
+set(ST_PC_LIBS "")
+foreach(l ${ST_EXPORTED_LIBS})
+  string(APPEND ST_PC_LIBS " -l${l}")
+endforeach()
+foreach(l ${_mrpt_libs})
+  string(APPEND ST_PC_LIBS " ${l}")
+endforeach()
+# The prefix relative to the .pc file, so that an unpacked tree (dpkg -x) works where it lies.
+file(RELATIVE_PATH ST_PC_PREFIX_REL /p/${CMAKE_INSTALL_LIBDIR}/pkgconfig /p)
+configure_file(${ST_ROOT}/cmake/startracker.pc.in ${CMAKE_BINARY_DIR}/startracker.pc @ONLY)
+install(FILES ${CMAKE_BINARY_DIR}/startracker.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig
+        COMPONENT dev)
