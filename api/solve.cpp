@@ -119,7 +119,7 @@ SolveResult run(app::FrameInput&& in, const SolveOptions& api_o, const Database*
     if (!identifier) throw InputError("algorithm: " + err);
     if (!WahbaSolver::create(o.solver, &err)) throw InputError("solver: " + err);
     const double sigma_floor =
-        o.min_sigma_px >= 0 ? o.min_sigma_px : (o.camera.camera_file.empty() ? 0.5 : 0.1);
+        o.min_sigma_px >= 0 ? o.min_sigma_px : 0.1;
     SearchLimits limits;
     if (hint) limits.refuse = refuseOutsideHint(*hint);
     if (o.cpulimit_s > 0)
@@ -128,8 +128,10 @@ SolveResult run(app::FrameInput&& in, const SolveOptions& api_o, const Database*
     const StarDatabase& sdb = chosen.stars();
     const CentroidSearch search = [&](const std::vector<Centroid>& stars) {
       if (plan.fixed)
-        return identifyAndFit(stars, *plan.fixed, sdb, *identifier, plan.fit_focal ? 0.01 : 0.0,
-                              plan.fit_focal, sigma_floor, limits);
+        return identifyAndFit(stars, *plan.fixed, sdb, *identifier,
+                              plan.fit_focal ? CameraFitPolicy::approximateFov(0.01)
+                                             : CameraFitPolicy::cameraFile(*plan.fixed),
+                              sigma_floor, limits);
       return identifyUnknownFov(stars, in.width, in.height, sdb, *identifier, plan.grid,
                                 plan.scale_tol, sigma_floor, limits);
     };
