@@ -3,11 +3,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <utility>
+#include <vector>
 
 #include "catalog/star_catalog.hpp"
 #include "common/errors.hpp"
@@ -36,6 +39,23 @@ std::string catalogIdentity(const std::string& path) {
   std::snprintf(b, sizeof b, "|%lld|%lld.%09ld", static_cast<long long>(st.st_size),
                 static_cast<long long>(st.st_mtim.tv_sec), st.st_mtim.tv_nsec);
   return fs::absolute(path).string() + b;
+}
+
+/// Keeps the folder bounded: the files beyond the kKeep most recently used (a hit touches its
+/// file) are removed. A file another process is reading stays readable until it closes it.
+constexpr std::size_t kKeep = 16;  // ~8 MB each for a 10-20 deg camera
+
+void evictOld(const std::string& dir) {
+  std::vector<std::pair<fs::file_time_type, fs::path>> files;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("db-", 0) == 0 && e.path().extension() == ".stdb")
+      files.emplace_back(e.last_write_time(ec), e.path());
+  }
+  if (files.size() <= kKeep) return;
+  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t i = kKeep; i < files.size(); ++i) fs::remove(files[i].second, ec);
 }
 
 bool sameParams(const DatabaseParams& a, const DatabaseParams& b) {
@@ -90,6 +110,8 @@ CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p) {
       if (sameParams(db->params(), p)) {
         out.db = std::move(db);
         out.how = "read from the cache " + path + ", built";
+        std::error_code ec;
+        fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // recently used
         return out;
       }
       log::warn("star database cache %s holds other parameters: rebuilding it", path.c_str());
@@ -110,6 +132,7 @@ CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p) {
     out.db->save(tmp);
     fs::rename(tmp, path);
     out.how = "cached in " + path + ", built";
+    evictOld(dir);
   } catch (const std::exception& e) {
     std::error_code ec;
     fs::remove(tmp, ec);

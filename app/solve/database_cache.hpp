@@ -7,6 +7,8 @@
 ///    renamed over, so concurrent writers never expose a partial file (the last rename
 ///    wins; every writer wrote the same bytes). A file that fails to load (the format's
 ///    checksum, a truncation) or holds other parameters is rebuilt with a warning.
+/// The folder keeps the 16 most recently used files (~8 MB each); older ones are removed
+/// when a new one is written.
 /// No usable cache folder (no HOME, read-only) costs a warning and an in-memory build.
 #pragma once
 #include <map>

@@ -190,7 +190,11 @@ int reportFrame(FrameOutcome& f) {
       j["image"] = o.input;
       printJson(j);
     }
-    log::error("%s: %s", o.input.c_str(), f.error.c_str());
+    // Most messages name the file already (loadImage's do).
+    if (f.error.rfind(o.input, 0) == 0)
+      log::error("%s", f.error.c_str());
+    else
+      log::error("%s: %s", o.input.c_str(), f.error.c_str());
     return f.code;
   }
   const SolveReport& rep = *f.rep;
