@@ -102,7 +102,9 @@ SolveResult run(app::FrameInput&& in, const SolveOptions& api_o, const Database*
     in.detection_reason = det.reason;
   }
 
-  app::SolveReport rep{o, in, chosen.stars(), chosen.source(), epoch, {}, {}, plan.fit_focal, {}};
+  // The answer is in the frame of the database the API built (apparent, annual aberration).
+  app::SolveReport rep{o,  in, chosen.stars(), chosen.source(),
+                       epoch, {}, {}, plan.fit_focal, {}, app::databaseFrame(chosen.stars().params())};
   rep.ms.database = db_ms;
   rep.ms.load = in.load_ms;
   rep.ms.detect = in.detect_ms;

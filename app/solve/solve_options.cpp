@@ -55,10 +55,11 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
   auto* cmd = root.add_subcommand(
       "solve", "Lost-in-space: detect, identify and solve the attitude of one image");
   auto o = std::make_shared<SolveOptions>();
-  cmd->add_option("IMAGE", o->input,
+  cmd->add_option("IMAGE", o->inputs,
                   "PNG, JPEG, TIFF (8/16-bit) or FITS image; or a star list instead of an "
                   "image: CSV with a header line and columns x,y[,flux] (pixels, 0-based), or "
-                  "a FITS table with columns X, Y[, FLUX] (1-based, as solve-field's xylist)")
+                  "a FITS table with columns X, Y[, FLUX] (1-based, as solve-field's xylist). "
+                  "Several, and folders (their images, sorted by name), make a batch")
       ->required();
   o->camera.addTo(*cmd);
   cmd->add_option("--database", o->database,
@@ -71,7 +72,24 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
   cmd->add_option("--solver", o->solver, "Wahba solver")
       ->check(CLI::IsMember(WahbaSolver::names()))
       ->capture_default_str();
-  cmd->add_flag("--json", o->json, "Print one JSON object (also for an error)");
+  cmd->add_flag("--json", o->json,
+                "Print one JSON object per frame, one per line (also for an error)");
+  cmd->add_option("--threads", o->threads, "Frames solved at once in a batch")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_flag("--no-cache", o->no_cache,
+                "Do not keep the in-memory database in the user's cache folder "
+                "($XDG_CACHE_HOME/startracker or ~/.cache/startracker)");
+  cmd->add_option("--wcs", o->wcs,
+                  "Write a FITS WCS header (TAN, SIP terms for a camera file's distortion) of "
+                  "the solved frame");
+  cmd->add_flag("--no-aberration", o->no_aberration,
+                "Astrometric (catalog, ICRS) frame, as astrometry.net and FITS WCS; default: "
+                "apparent, with the Earth's annual aberration");
+  cmd->add_option("--observer-velocity-km-s", o->observer_velocity_km_s,
+                  "Observer's velocity w.r.t. the Earth's centre [km/s], GCRS/ICRS axes, added "
+                  "to the annual aberration (a spacecraft's orbit)")
+      ->expected(3);
   cmd->add_option("--annotate", o->annotate,
                   "Write a labelled PNG of the solved frame (blobs circled, stars named)");
   cmd->add_option("--fov-range", o->fov_range_deg,

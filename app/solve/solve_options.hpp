@@ -16,7 +16,8 @@
 namespace st::app {
 
 struct SolveOptions {
-  std::string input;  ///< image, or a star list (CSV x,y,flux or a FITS table X,Y,FLUX)
+  std::vector<std::string> inputs;  ///< images, star lists and folders (input_list.hpp)
+  std::string input;  ///< the frame being solved: image, or a star list (CSV x,y,flux or a FITS table X,Y,FLUX)
   CameraOptions camera;
   std::string database;
   std::string algorithm = StarIdentifier::defaultName();
@@ -32,6 +33,11 @@ struct SolveOptions {
   double ra_deg = NAN, dec_deg = NAN, radius_deg = NAN;  ///< position hint (all or none)
   double cpulimit_s = 0;                                 ///< 0 = no limit
   int width = 0, height = 0;                             ///< image size of a star list
+  int threads = 1;        ///< frames solved at once in a batch
+  bool no_cache = false;  ///< build the in-memory database without the disk cache
+  std::string wcs;        ///< FITS WCS header output (one frame)
+  bool no_aberration = false;  ///< astrometric frame instead of apparent
+  std::vector<double> observer_velocity_km_s;  ///< added to the Earth's (GCRS/ICRS axes)
 
   /// The parity flag as the search takes it.
   ParityChoice parityChoice() const;
@@ -41,8 +47,9 @@ struct SolveOptions {
 };
 
 /// Runs the command: 0 solved, 1 not solved, InputError (exit 2) on bad input. With --json
-/// stdout receives exactly one JSON object, also when an error ends the run (see
-/// solve_output.hpp for the schema).
+/// stdout receives exactly one JSON object per frame, also when an error ends the run (see
+/// solve_output.hpp for the schema). A batch (several inputs or a folder) exits with its
+/// worst frame's code (2 > 1 > 0) and ends with a summary on stderr.
 int runSolve(const SolveOptions& o);
 
 }  // namespace st::app

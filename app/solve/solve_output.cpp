@@ -67,6 +67,9 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
       {"epoch_jyear", r.epoch.jyear}, {"epoch_source", r.epoch.source},
       {"database", r.db_source}, {"database_epoch_jyear", r.db.params().epoch_jyear},
       {"catalog", r.db.report().catalog_name}, {"catalog_id", idLabel(r)}};
+  j["frame"] = r.frame.name();
+  const Vec3 v = r.frame.velocity(r.epoch.jyear);
+  j["aberration_velocity_km_s"] = {v.x(), v.y(), v.z()};
   j["camera"] = cameraJson(r);
   j["stars"] = starsJson(r);
   j["timing_ms"] = {{"load", r.ms.load},         {"detect", r.ms.detect},
@@ -123,6 +126,7 @@ void printSolutionText(const SolveReport& r) {
                                                "the un-mirrored camera's)"
                                              : "");
   std::printf("q_ib       [w x y z] = [%.9f %.9f %.9f %.9f]\n", q.w(), q.x(), q.y(), q.z());
+  std::printf("frame      %s\n", r.frame.describe(r.epoch.jyear).c_str());
   std::printf("boresight  RA %.5f deg  Dec %+.5f deg  roll %.5f deg\n", rad2deg(rdr.ra),
               rad2deg(rdr.dec), rad2deg(rdr.roll));
   std::printf("1-sigma    cross-boresight %.2f arcsec, roll %.2f arcsec\n",

@@ -8,6 +8,9 @@
 ///    "rms_residual_arcsec", "rms_residual_px", "false_match_probability",
 ///    "hypotheses_tried", "fovs_tried", "epoch_jyear", "epoch_source", "database",
 ///    "database_epoch_jyear", "catalog" (the catalog's name), "catalog_id" ("HIP", "HR"),
+///    "frame": "apparent" | "astrometric" (celestial_frame.hpp), "aberration_velocity_km_s"
+///    [x, y, z] (ICRS axes; the observer's velocity the apparent frame is for, zero for
+///    astrometric),
 ///    "stars": [{"id", "name" (e.g. "HR 5340"), "x", "y", "mag", "residual_arcsec",
 ///    "residual_px"}] (x, y in the input's pixels, also for a flipped image), "timing_ms":
 ///    {"load", "detect", "database", "identify", "pattern", "verify", "total"}};
@@ -15,12 +18,14 @@
 ///    "reason", "image", "stars_detected", "parities_tried", "cpu_limit_reached",
 ///    "exit_code": 1};
 ///  - an error ended the run: {"solved": false, "status": "error", "error": message,
-///    "exit_code": 2 for bad input (file, flag, value), 1 otherwise}.
+///    "exit_code": 2 for bad input (file, flag, value), 1 otherwise}; in a batch also "image".
+/// A batch prints one object per frame, one per line (JSON Lines), in input order.
 #pragma once
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "app/solve/celestial_frame.hpp"
 #include "app/solve/frame_input.hpp"
 #include "app/solve/solve_epoch.hpp"
 #include "app/solve/solve_options.hpp"
@@ -44,6 +49,7 @@ struct SolveReport {
   std::string failure;  ///< empty when solved
   bool focal_fitted = true;
   SolveTimings ms;
+  CelestialFrame frame;  ///< the frame q_ib and RA/Dec are in
 };
 
 /// "HIP" for Hipparcos, "HR" for the Bright Star Catalogue, "TYC" for Tycho, else "ID":

@@ -55,7 +55,7 @@ TEST(CliParseErrors, FlagsNamedAsTyped) {
                    "--algorithm must be one of pyramid, voting, liebe, planar, spherical, "
                    "nvertex; got 'pyramd' (did you mean 'pyramid'?)");
   expectUsageError("solve", "missing IMAGE: PNG, JPEG");
-  expectUsageError("solve a.png b.png", "unexpected argument 'b.png' for solve");
+  expectUsageError("solve a.png b.png", "b.png: cannot open the image");  // a batch (issue 15)
   expectUsageError("solve x.png --camera c.yaml --fov-deg 10",
                    "--camera and --fov-deg cannot be used together");
 }
