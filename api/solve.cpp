@@ -2,6 +2,7 @@
 // (app/solve/solve_run.cpp): camera or FOV search -> database -> detection -> both parities;
 // the JSON is the command's own (app/solve/solve_output.cpp), so the two cannot drift apart.
 #include <chrono>
+#include <memory>
 #include <mutex>
 
 #include "api/database_cache.hpp"
@@ -103,8 +104,10 @@ SolveResult run(app::FrameInput&& in, const SolveOptions& api_o, const Database*
   }
 
   // The answer is in the frame of the database the API built (apparent, annual aberration).
-  app::SolveReport rep{o,  in, chosen.stars(), chosen.source(),
-                       epoch, {}, {}, plan.fit_focal, {}, app::databaseFrame(chosen.stars().params())};
+  auto rep_ptr = std::make_unique<app::SolveReport>(app::SolveReport{
+      o, in, chosen.stars(), chosen.source(), epoch, PlateSolveResult{}, std::string{},
+      plan.fit_focal, app::SolveTimings{}, app::databaseFrame(chosen.stars().params())});
+  app::SolveReport& rep = *rep_ptr;
   rep.ms.database = db_ms;
   rep.ms.load = in.load_ms;
   rep.ms.detect = in.detect_ms;
