@@ -6,6 +6,28 @@
 // (app/live/live_navigator.hpp).
 // SIGINT / SIGTERM end the run cleanly: sensors stopped, what they delivered written, rawlog
 // closed, summary printed.
+// SIGKILL loses at most the last ~0.8 s: the recorder flushes the rawlog every 0.25 s
+// (app/live/live_recorder.hpp; tests/app/test_live_kill.cpp).
+//
+// Threading model (checked with ThreadSanitizer: scripts/tsan.sh):
+//  - one thread per sensor (SensorRunner): it alone calls its sensor's initialize(),
+//    doProcess() and getObservations(); it hands every observation to the ObservationQueue
+//    (mutex + condition variable) and failures as report strings. Its state, counters and
+//    stop/go flags are atomics; go/stop/initialised are signalled under the runner's mutex.
+//  - the main thread (LiveSession) owns the queue's consumer side, the LiveRecorder and the
+//    RawlogWriter (only it writes the file, the images of sensors that keep them inline and the
+//    counts), the window and the summary. It creates the sensors before their threads start
+//    and stops (joins) them before reading anything else from them.
+//  - the LiveNavigator (the filter) is shared: the main thread pushes every batch into it,
+//    the star tracker's thread asks it for each frame's prediction (frameInputs(), which may
+//    wait on its condition variable for the gyro), and the window reads the estimate. One
+//    mutex inside it serialises all of these.
+//  - CStarTrackerSensor keeps its last fix and image under its own mutex for the window; it
+//    calls the navigator without holding it (no lock order between the two).
+//  - the simulated sensors share one start time (a mutex in simulated_sensors.cpp).
+//  - the signal handler only stores the signal number (sig_atomic_t); the main loop polls it.
+// Queues: ObservationQueue (sensors -> main, unbounded but emptied every 50 ms), the
+// recorder's hold (0.5 s of observations) and the navigator's reorder window (0.5 s).
 //
 // Optional sections without a driver:
 //   [global]     rawlog_file = out.rawlog (default live.rawlog; -o wins). Relative to the
@@ -35,6 +57,7 @@
 #include <map>
 
 #include "app/command.hpp"
+#include "app/live/integrity_summary.hpp"
 #include "app/live/live_display.hpp"
 #include "app/live/live_navigator.hpp"
 #include "app/live/live_recorder.hpp"
@@ -111,6 +134,9 @@ class LiveSession {
     int running = 0;
     for (auto& r : runners_) running += r->state() != SensorRunner::State::kFailed;
     for (auto& r : runners_) r->go();
+    // The sensors' clocks start now: tests/app/test_live_kill.cpp times its SIGKILL from here.
+    std::printf("live: sensors running\n");
+    std::fflush(stdout);
     printReports();
     if (args_.gui) {
       std::string why;
@@ -163,11 +189,16 @@ class LiveSession {
   void printSummary(const std::string& why_stop) const {
     std::printf("live: stopped by %s after %.1f s\n", why_stop.c_str(), elapsed_s_);
     recorder_.printRawlogSummary(out_path_.string(), stdout);
+    std::size_t delivered = 0;
     for (auto& r : runners_) {
       const char* st = r->state() == SensorRunner::State::kFailed ? "FAILED" : "ok";
       std::printf("sensor '%s' %s: %zu observations, %s\n", r->section().c_str(),
                   r->driver().c_str(), r->observations(), st);
+      delivered += r->observations();
     }
+    // Every observation a sensor delivered must be in the rawlog (scripts/soak.sh checks).
+    std::printf("observations: %zu delivered, %zu recorded, %zd lost\n", delivered,
+                recorder_.written(), static_cast<std::ptrdiff_t>(delivered - recorder_.written()));
     recorder_.printTrackerSummary(stdout);
     if (!nav_) return;
     const auto s = nav_->stats();
@@ -184,6 +215,7 @@ class LiveSession {
     for (const auto& w : nav_->warnings()) log::warn("%s", w.c_str());
     const std::vector<NavStep> steps = nav_->steps();
     printNavigationSummary(steps, stdout);
+    printIntegritySummary(steps, stdout);
     if (!args_.csv.empty()) {
       const int rows = writeNavStepCsv(steps, args_.csv);
       std::printf("csv: %s (%d rows)\n", args_.csv.c_str(), rows);

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/command.hpp"
+#include "app/live/integrity_summary.hpp"
 #include "app/live/replay_config.hpp"
 #include "app/output_file.hpp"
 #include "app/plot.hpp"
@@ -304,6 +305,7 @@ int runReplay(const ReplayOpts& o) {
   std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
               frames ? 1e3 * frame_time / frames : 0.0, frames / std::max(wall_s, 1e-9));
   printNavigationSummary(steps, stdout);
+  printIntegritySummary(steps, stdout);
 
   if (!o.csv.empty()) {
     const int rows = writeNavStepCsv(steps, o.csv);

@@ -21,9 +21,25 @@ void LiveRecorder::record(std::vector<mrpt::obs::CObservation::Ptr> batch) {
     writeOlderThan(*newest_ - std::chrono::duration_cast<mrpt::Clock::duration>(
                                   std::chrono::duration<double>(hold_s_)));
   }
+  flushIfDue();
 }
 
-void LiveRecorder::finish() { writeOlderThan(mrpt::Clock::time_point::max()); }
+void LiveRecorder::finish() {
+  writeOlderThan(mrpt::Clock::time_point::max());
+  writer_.flush();
+}
+
+void LiveRecorder::flushIfDue() {
+  using clock = std::chrono::steady_clock;
+  const auto now = clock::now();
+  if (std::chrono::duration<double>(now - last_flush_).count() < flush_s_) return;
+  writer_.flush();
+  last_flush_ = clock::now();
+  const double took = std::chrono::duration<double>(last_flush_ - now).count();
+  ++flushes_;
+  flush_time_s_ += took;
+  flush_max_s_ = std::max(flush_max_s_, took);
+}
 
 void LiveRecorder::writeOlderThan(mrpt::Clock::time_point limit) {
   while (!held_.empty() && held_.begin()->first <= limit) {
@@ -64,6 +80,10 @@ void LiveRecorder::printRawlogSummary(const std::string& path, std::FILE* out) c
         out_of_order_, hold_s_);
   }
   for (const auto& [label, n] : per_label_) std::fprintf(out, "  %-16s %zu\n", label.c_str(), n);
+  if (flushes_ > 0) {
+    std::fprintf(out, "rawlog flushes: %d every %.2f s, %.2f ms mean, %.2f ms max\n", flushes_,
+                 flush_s_, 1e3 * flush_time_s_ / flushes_, 1e3 * flush_max_s_);
+  }
 }
 
 void LiveRecorder::printTrackerSummary(std::FILE* out) const {

@@ -38,7 +38,7 @@ std::string rawlogImagesDir(const std::string& rawlog_path) {
 
 // ---------------------------------------------------------------------------------------
 RawlogWriter::RawlogWriter(const std::string& path, int gz_level)
-    : path_(path), images_dir_(rawlogImagesDir(path)) {
+    : path_(path), images_dir_(rawlogImagesDir(path)), gz_level_(gz_level) {
   file_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
   std::string err;
   if (!file_->open(path, gz_level, err)) {
@@ -76,6 +76,19 @@ void RawlogWriter::externalizeImage(mrpt::img::CImage& img, const std::string& f
   const std::string full = (fs::path(images_dir_) / file_name).string();
   if (!img.saveToFile(full)) throw InputError("image '" + full + "': cannot be written");
   img.setExternalStorage(file_name);
+}
+
+void RawlogWriter::flush() {
+  if (!file_) return;
+  ar_.reset();
+  file_->close();
+  std::string err;
+  if (!file_->open(path_, gz_level_, err, mrpt::io::OpenMode::APPEND)) {
+    file_.reset();
+    throw ProcessingError("rawlog '" + path_ + "': cannot reopen to append" +
+                          (err.empty() ? "" : " (" + err + ")"));
+  }
+  ar_ = mrpt::serialization::archiveUniquePtrFrom(*file_);
 }
 
 void RawlogWriter::close() {

@@ -59,6 +59,10 @@ class RawlogWriter {
   /// when the directory or file cannot be written.
   void externalizeImage(mrpt::img::CImage& img, const std::string& file_name);
 
+  /// Makes everything written so far readable from the file even if the process is killed
+  /// next: the gz stream has no flush, so this ends its gzip member and appends a new one
+  /// (a file of several members is one valid gz stream, read by zlib and MRPT as one).
+  void flush();
   /// Flushes and closes; further writes throw. Also done by the destructor.
   void close();
 
@@ -67,6 +71,7 @@ class RawlogWriter {
   std::unique_ptr<mrpt::io::CFileGZOutputStream> file_;
   std::unique_ptr<mrpt::serialization::CArchive> ar_;
   std::size_t count_ = 0;
+  int gz_level_ = 1;
   bool images_dir_made_ = false;
 };
 

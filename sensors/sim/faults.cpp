@@ -1,5 +1,6 @@
 #include "sensors/sim/faults.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -34,7 +35,22 @@ const SectionSchema<FaultParams>& faultParamsSchema() {
           .add("blinding_end_s", &F::blinding_end_s, "[s] glow ends")
           .add("drop_frame_probability", &F::drop_frame_probability,
                "probability that a frame is lost, 0..1")
-          .add("dropout_s", &F::dropouts, "[s] t0 t1 [t0 t1 ...]: frames in [t0, t1) are lost");
+          .add("dropout_s", &F::dropouts, "[s] t0 t1 [t0 t1 ...]: frames in [t0, t1) are lost")
+          .add("frozen_s", &F::frozen,
+               "[s] t0 t1 [t0 t1 ...]: frames in [t0, t1) repeat the image before t0")
+          .add("camera_time_jump_s", &F::camera_time_jumps,
+               "[s] t dt [t dt ...]: from t on the camera stamps frames dt later (< 0: earlier)")
+          .add("gyro_stuck_axis", &F::gyro_stuck_axis,
+               "gyro axis (0 1 2 = x y z) stuck at its last reading during the gyro fault; -1 = none")
+          .add("gyro_noisy_axis", &F::gyro_noisy_axis,
+               "gyro axis (0 1 2) with extra noise during the gyro fault; -1 = none")
+          .add("gyro_noise_deg_s", &F::gyro_noise_deg_s,
+               "[deg/s] 1-sigma extra white noise per sample on the noisy axis")
+          .add("gyro_fault_start_s", &F::gyro_fault_start_s, "[s] stuck / noisy axis starts")
+          .add("gyro_fault_end_s", &F::gyro_fault_end_s, "[s] stuck / noisy axis ends")
+          .add("gyro_spikes_per_s", &F::gyro_spikes_per_s,
+               "Poisson rate of single-sample gyro spikes over the run")
+          .add("gyro_spike_deg_s", &F::gyro_spike_deg_s, "[deg/s] size of a gyro spike");
   return schema;
 }
 
@@ -67,6 +83,16 @@ void FaultParams::validate(const std::string& where) const {
     bad("drop_frame_probability must be in [0, 1]");
   for (const auto& d : dropouts)
     if (!(d.first <= d.second)) bad("dropout_s: each interval needs t0 <= t1");
+  for (const auto& d : frozen)
+    if (!(d.first <= d.second)) bad("frozen_s: each interval needs t0 <= t1");
+  for (const auto& j : camera_time_jumps)
+    if (!std::isfinite(j.first) || !std::isfinite(j.second)) bad("camera_time_jump_s: t dt must be finite");
+  for (int axis : {gyro_stuck_axis, gyro_noisy_axis})
+    if (axis < -1 || axis > 2) bad("gyro_stuck_axis / gyro_noisy_axis must be -1, 0, 1 or 2");
+  if (!(gyro_noise_deg_s >= 0)) bad("gyro_noise_deg_s must be >= 0");
+  if (!(gyro_fault_start_s <= gyro_fault_end_s)) bad("gyro_fault_start_s > gyro_fault_end_s");
+  if (!(gyro_spikes_per_s >= 0)) bad("gyro_spikes_per_s must be >= 0");
+  if (!std::isfinite(gyro_spike_deg_s)) bad("gyro_spike_deg_s must be finite");
 }
 
 std::vector<ExtraSource> placeFalseSources(const FaultParams& f, const CameraModel& cam,
@@ -132,6 +158,50 @@ bool isFrameDropped(const FaultParams& f, uint64_t seed, int index, double t) {
   if (f.drop_frame_probability <= 0) return false;
   return hashToUnit(streamSeed(seed, RandomStream::kFrameDrop, static_cast<uint64_t>(index))) <
          f.drop_frame_probability;
+}
+
+int frozenImageSource(const FaultParams& f, int k, double t, double frame_rate_hz) {
+  for (const auto& d : f.frozen) {
+    if (t >= d.first && t < d.second) {
+      // The last frame whose time is before t0: the readout that got stuck.
+      const int k0 = static_cast<int>(std::ceil(d.first * frame_rate_hz - 1e-9)) - 1;
+      return std::clamp(k0, 0, k);
+    }
+  }
+  return k;
+}
+
+double cameraClock(const FaultParams& f, double t) {
+  double c = t;
+  for (const auto& j : f.camera_time_jumps)
+    if (t >= j.first) c += j.second;
+  return c;
+}
+
+void applyGyroFaults(Vec3& rate, Vec3& held, const FaultParams& f, uint64_t seed, int index,
+                     double t, double rate_hz) {
+  const bool in_fault = t >= f.gyro_fault_start_s && t < f.gyro_fault_end_s;
+  if (f.gyro_stuck_axis >= 0) {
+    if (in_fault) {
+      rate(f.gyro_stuck_axis) = held(f.gyro_stuck_axis);
+    } else {
+      held = rate;
+    }
+  }
+  if (f.gyro_noisy_axis >= 0 && in_fault && f.gyro_noise_deg_s > 0) {
+    std::mt19937_64 rng = makeRng(seed, RandomStream::kGyroFaults, 2 * static_cast<uint64_t>(index));
+    rate(f.gyro_noisy_axis) += deg2rad(f.gyro_noise_deg_s) * std::normal_distribution<double>()(rng);
+  }
+  if (f.gyro_spikes_per_s > 0) {
+    // A spike in this sample with the probability of one in a 1/rate_hz interval.
+    std::mt19937_64 rng =
+        makeRng(seed, RandomStream::kGyroFaults, 2 * static_cast<uint64_t>(index) + 1);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    if (u01(rng) < 1.0 - std::exp(-f.gyro_spikes_per_s / rate_hz)) {
+      const int axis = std::min(2, static_cast<int>(u01(rng) * 3));
+      rate(axis) += (u01(rng) < 0.5 ? -1.0 : 1.0) * deg2rad(f.gyro_spike_deg_s);
+    }
+  }
 }
 
 }  // namespace st

@@ -11,7 +11,15 @@
 ///  - a blinding source (Sun/Earth/Moon stray light): extra background
 ///    rate * 1 / (1 + (r / radius)^2) around a centre that may lie outside the frame,
 ///    during [blinding_start_s, blinding_end_s];
-///  - dropped frames: each frame lost with a probability, and whole dropout intervals.
+///  - dropped frames: each frame lost with a probability, and whole dropout intervals (a
+///    camera that stops and restarts);
+///  - frozen images: during an interval the camera repeats the last image read before it (a
+///    stuck readout) with fresh timestamps, while the truth moves on;
+///  - camera clock jumps: from a time on, the camera stamps its frames (and their truth) dt
+///    later (dt > 0) or earlier (dt < 0); jumps add up;
+///  - gyro faults during [gyro_fault_start_s, gyro_fault_end_s): one axis stuck at its last
+///    reading, and/or one axis with extra white noise; spikes: single samples with a large
+///    error on one random axis, a Poisson number per second over the whole run.
 ///
 /// .ini keys:
 ///   false_stars (count), false_star_mag_min, false_star_mag_max
@@ -22,6 +30,9 @@
 ///   blinding_start_s, blinding_end_s
 ///   drop_frame_probability (0..1), dropout_s = t0 t1 [t0 t1 ...] (frames with t in [t0, t1)
 ///   are not delivered)
+///   frozen_s = t0 t1 [...], camera_time_jump_s = t dt [t dt ...]
+///   gyro_stuck_axis, gyro_noisy_axis (0 1 2 = x y z, -1 = none), gyro_noise_deg_s,
+///   gyro_fault_start_s, gyro_fault_end_s, gyro_spikes_per_s, gyro_spike_deg_s
 #pragma once
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -58,6 +69,13 @@ struct FaultParams {
   double blinding_start_s = 0, blinding_end_s = 1e300;
   double drop_frame_probability = 0;
   std::vector<std::pair<double, double>> dropouts;  ///< [t0, t1) in seconds from the start
+  std::vector<std::pair<double, double>> frozen;    ///< [t0, t1): the image of before t0
+  std::vector<std::pair<double, double>> camera_time_jumps;  ///< (t, dt): stamps + dt from t
+  int gyro_stuck_axis = -1, gyro_noisy_axis = -1;  ///< 0 1 2 = x y z; -1 = none
+  double gyro_noise_deg_s = 0;                      ///< [deg/s] 1 sigma per sample, noisy axis
+  double gyro_fault_start_s = 0, gyro_fault_end_s = 1e300;
+  double gyro_spikes_per_s = 0;                     ///< Poisson rate of single-sample spikes
+  double gyro_spike_deg_s = 5;                      ///< [deg/s] size of a spike (random sign)
 
   static FaultParams fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section);
@@ -84,5 +102,18 @@ void addBlinding(cv::Mat& electrons, const FaultParams& f, double t, double expo
 
 /// Whether frame `index` at time t [s] is dropped (deterministic for a seed).
 bool isFrameDropped(const FaultParams& f, uint64_t seed, int index, double t);
+
+/// The frame whose image frame k (at t [s]) shows: k, or for a frozen frame the last frame
+/// before its frozen interval (0 if the interval starts before the first frame).
+int frozenImageSource(const FaultParams& f, int k, double t, double frame_rate_hz);
+
+/// The camera's clock at true time t [s]: t plus every jump at or before t.
+double cameraClock(const FaultParams& f, double t);
+
+/// The gyro's faults on sample `index` (time t [s], measured mean rate in rad/s); `held` is
+/// the stuck axis' last good reading, kept by the caller across samples. Deterministic for a
+/// seed.
+void applyGyroFaults(Vec3& rate, Vec3& held, const FaultParams& f, uint64_t seed, int index,
+                     double t, double rate_hz);
 
 }  // namespace st

@@ -27,6 +27,7 @@ enum class RandomStream : uint64_t {
   kGyroInitialBias = 5,
   kFaultLayout = 6,
   kMissingStars = 7,
+  kGyroFaults = 8,
 };
 
 /// Seed of one stream; `index` is e.g. the frame number.

@@ -54,7 +54,8 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
   for (int k = 0; k < n_frames; ++k) {
     const SimFrame f = sim.frame(k);
     flush_gyro_until(f.t);
-    const auto stamp = sc.timestamp(f.t);
+    // Written when the camera delivers it (after the gyro up to f.t), stamped by its clock.
+    const auto stamp = sc.timestamp(f.stamp_t);
     if (!f.dropped) {
       auto cam = makeCameraObservation(f.image, sc.camera, stamp);
       if (opts.external_images) {

@@ -120,6 +120,7 @@ SimFrame SkySimulator::frame(int k) const {
   f.t = sc_.frameTime(k);
   f.q_ib = canonical(sc_.motion->attitude(f.t));
   f.rate_body = sc_.motion->rateBody(f.t);
+  f.stamp_t = cameraClock(sc_.faults, f.t);
   f.dropped = isFrameDropped(sc_.faults, seed_, k, f.t);
   const MotionProfile& motion = *sc_.motion;
   const double t_mid = f.t;
@@ -127,6 +128,15 @@ SimFrame SkySimulator::frame(int k) const {
   cv::Mat electrons = background_.clone();
   f.truth = renderer_->render(q_at, electrons, render_opts_);
   if (f.dropped) return f;
+  const int shown = frozenImageSource(sc_.faults, k, f.t, sc_.frame_rate_hz);
+  if (shown != k) {  // a stuck readout: the earlier image again, the truth of now
+    SimFrame old = frame(shown);
+    if (!old.image.empty()) {
+      f.image = old.image;
+      f.spikes = old.spikes;
+      return f;
+    }
+  }
   std::mt19937_64 clutter = makeRng(seed_, RandomStream::kFrameClutter, static_cast<uint64_t>(k));
   f.spikes = addSpikes(electrons, sc_.faults, clutter);
   addBlinding(electrons, sc_.faults, f.t, sc_.sensor.exposure_s);
@@ -135,7 +145,7 @@ SimFrame SkySimulator::frame(int k) const {
   return f;
 }
 
-GyroStream::GyroStream(const Scenario& sc, uint64_t seed) : sc_(sc) {
+GyroStream::GyroStream(const Scenario& sc, uint64_t seed) : sc_(sc), seed_(seed) {
   if (sc_.gyro) {
     if (!sc_.motion) throw InputError(sc_.source + ": scenario has no motion profile");
     gyro_ = std::make_unique<GyroSimulator>(*sc_.gyro, streamSeed(seed, RandomStream::kGyro),
@@ -152,6 +162,7 @@ bool GyroStream::next(GyroSample& out) {
   out.t = sc_.gyroTime(j);
   out.rate = gyro_->sample(*sc_.motion, sc_.gyroTime(j - 1), out.t);
   out.true_bias = gyro_->bias();
+  applyGyroFaults(out.rate, held_, sc_.faults, seed_, j, out.t, sc_.gyro->rate_hz);
   return true;
 }
 

@@ -131,6 +131,7 @@ std::shared_ptr<const StarDatabase> buildScenarioDatabase(const Scenario& sc);
 struct SimFrame {
   int index = 0;
   double t = 0;             ///< [s] from the start, mid-exposure
+  double stamp_t = 0;       ///< [s] the camera's clock at t (t unless its clock jumped)
   bool dropped = false;     ///< the camera delivered nothing (image empty)
   Quat q_ib = Quat::Identity();
   Vec3 rate_body = Vec3::Zero();
@@ -161,6 +162,8 @@ class GyroStream {
   Scenario sc_;
   std::unique_ptr<GyroSimulator> gyro_;
   int next_ = 1;
+  uint64_t seed_ = 0;
+  Vec3 held_ = Vec3::Zero();  // a stuck axis' last good reading (faults.hpp)
 };
 
 class SkySimulator {

@@ -179,7 +179,7 @@ void CSimulatedStarCamera::doProcess() {
   next_frame_ = last + 1;
   // The scenario's clock, not the wall clock: the sky was rendered for the scenario's date,
   // and a recording replays with a star database of its stamps' epoch.
-  const auto stamp = sc.timestamp(f.t);
+  const auto stamp = sc.timestamp(f.stamp_t);  // the camera's clock (faults.hpp: jumps)
   std::vector<mrpt::serialization::CSerializable::Ptr> out;
   if (!f.dropped) {
     auto obs = makeCameraObservation(f.image, sc.camera, stamp, m_sensorLabel);
