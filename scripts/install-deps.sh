@@ -14,6 +14,7 @@ PKGS=(
   libcfitsio-dev zlib1g-dev
   gnuplot-nox python3
   xvfb xauth
+  clang libfuzzer-14-dev   # scripts/fuzz.sh (libFuzzer, ASan+UBSan)
 )
 missing=()
 for p in "${PKGS[@]}"; do
