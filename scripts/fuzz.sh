@@ -78,7 +78,7 @@ for t in "${targets[@]}"; do
   [ ! -f "tests/fuzz/dict/$t.dict" ] || extra+=(-dict="tests/fuzz/dict/$t.dict")
   dirs=("$corpus" "tests/fuzz/corpus/$t")
   [ ! -d "tests/fuzz/regressions/$t" ] || dirs+=("tests/fuzz/regressions/$t")
-  before=$(ls "$findings" | wc -l)
+  ls "$findings" >"$log.before"
   echo "fuzz.sh: $t (${limit[*]}), log $log"
   rc=0
   nice -n 10 "$BUILD/tests/fuzz/fuzz_$t" "${limit[@]}" -timeout=20 -rss_limit_mb=2048 \
@@ -87,11 +87,14 @@ for t in "${targets[@]}"; do
   last=$(grep -E '^#[0-9]+' "$log" | tail -1 || true)
   cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$last")
   ft=$(sed -n 's/.* ft: \([0-9]*\).*/\1/p' <<<"$last")
-  found=$(( $(ls "$findings" | wc -l) - before ))
-  if [ "$rc" -ne 0 ] && [ "$found" -eq 0 ]; then found=1; fi  # stopped without an artifact
-  [ "$found" -eq 0 ] || { status=1; grep -m3 -E 'ERROR|runtime error|SUMMARY|finding' "$log" || true; }
-  rows+=("$(printf '%-18s %12s %8s %9s %9s' "$t" "${execs:-?}" "${cov:-?}" "${ft:-?}" "$found")")
+  # New artifacts, by kind (crash, leak, oom, timeout, slow-unit): each one is a finding.
+  kinds=$(ls "$findings" | grep -vxF -f "$log.before" | sed 's/-[0-9a-f]*$//' | sort | uniq -c |
+          awk '{printf "%s%s %s", sep, $1, $2; sep=", "}' || true)
+  rm -f "$log.before"
+  if [ "$rc" -ne 0 ] && [ -z "$kinds" ]; then kinds="exit $rc"; fi  # stopped without an artifact
+  [ -z "$kinds" ] || { status=1; grep -m3 -E 'ERROR|runtime error|SUMMARY|finding' "$log" || true; }
+  rows+=("$(printf '%-18s %12s %8s %9s  %s' "$t" "${execs:-?}" "${cov:-?}" "${ft:-?}" "${kinds:-0}")")
 done
-printf '\n%-18s %12s %8s %9s %9s\n' target executions cov features findings
+printf '\n%-18s %12s %8s %9s  %s\n' target executions cov features findings
 printf '%s\n' "${rows[@]}"
 exit $status

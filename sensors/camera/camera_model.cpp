@@ -280,7 +280,8 @@ CameraIniKeys CameraModel::iniKeys() const {
 
 CameraModel CameraModel::loadIniFile(const std::string& path, const std::string& section) {
   requireFile(path);
-  mrpt::config::CConfigFile cfg(path);
+  const auto file = openIniFile(path);
+  const mrpt::config::CConfigFile& cfg = *file;
   if (!cfg.sectionExists(section)) throw InputError(path + ": missing section [" + section + "]");
   return loadIni(cfg, section, path);
 }

@@ -10,7 +10,15 @@
 #include <string>
 #include <vector>
 
+#include <zlib.h>
+
+#include "catalog/star_catalog.hpp"
+#include "catalog/star_database.hpp"
+#include "common/errors.hpp"
+#include "config/ini_reader.hpp"
+#include "sensors/camera/camera_model.hpp"
 #include "tests/fuzz/targets/fuzz_io.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace st {
 namespace {
@@ -51,6 +59,58 @@ TEST(FuzzRegressions, EveryReproducerRunsCleanThroughItsTarget) {
     EXPECT_TRUE(!d.is_directory() || known) << d.path() << ": no fuzz target of that name";
   }
   RecordProperty("reproducers", ran);
+}
+
+fs::path reproducer(const std::string& target, const std::string& name) {
+  return fs::path(ST_FUZZ_REGRESSIONS_DIR) / target / name;
+}
+
+/// Copies `bytes` to a fresh file named `name` and returns its path.
+std::string writeFile(const std::string& name, const std::string& bytes) {
+  const std::string path = test::makeTempDir("fuzz_regressions") + "/" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+/// Expects `parse` to throw InputError naming `path` and saying `words`.
+template <class F>
+void expectRefused(const std::string& path, const std::string& words, F&& parse) {
+  try {
+    parse();
+    ADD_FAILURE() << path << ": accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find(words), std::string::npos) << what;
+  }
+}
+
+// A star database (valid checksum) whose neighbour table claims 2^31 entries: the loader
+// allocated 2.2 GB for them before finding the file too short.
+TEST(FuzzRegressions, StarDatabaseNeighbourCountBeyondTheFileIsRefusedBeforeAllocating) {
+  std::string bytes = readBytes(reproducer("star_database", "neighbour_count_oom"));
+  const auto crc = std::uint32_t(crc32(crc32(0L, Z_NULL, 0),
+                                       reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size())));
+  for (int i = 0; i < 4; ++i) bytes += char(crc >> (8 * i));  // as the fuzz target does
+  const std::string path = writeFile("neighbours.db", bytes);
+  expectRefused(path, "truncated or corrupt while reading neighbours", [&] { StarDatabase::load(path); });
+}
+
+// A 260-byte BSC5 file whose header announces 16.8 million records: the loader reserved
+// 1.2 GB for them (12 s under ASan) before finding the file too short.
+TEST(FuzzRegressions, Bsc5RecordCountBeyondTheFileIsRefusedNamingTheRecord) {
+  const std::string bytes = readBytes(reproducer("catalog", "bsc5_record_count_slow"));
+  const std::string path = writeFile("bsc5", bytes.substr(1));  // byte 0: the target's selector
+  expectRefused(path, "truncated at record", [&] { loadBsc5(path); });
+}
+
+// A camera .ini with an unclosed `$env{`: MRPT's preprocessor threw its own exception out of
+// the CConfigFile constructor (`startracker config` exited 1 printing MRPT's call stack).
+TEST(FuzzRegressions, IniWithBadPreprocessorSyntaxIsAnInputErrorNamingTheFile) {
+  const std::string bytes = readBytes(reproducer("camera", "ini_env_unclosed"));
+  const std::string path = writeFile("camera.ini", bytes.substr(1));  // byte 0: the selector
+  expectRefused(path, "Expected closing", [&] { CameraModel::loadIniFile(path, "camera"); });
+  expectRefused(path, "not a readable .ini file", [&] { openIniFile(path); });
 }
 
 }  // namespace

@@ -12,7 +12,8 @@ namespace st::fuzz {
 int config_ini(const std::uint8_t* data, std::size_t size) {
   const std::string path = writeInput(data, size, ".ini");
   refuseOnlyWithInputError(path, [&] {
-    const mrpt::config::CConfigFile cfg(path);
+    const auto file = openIniFile(path);
+    const mrpt::config::CConfigFile& cfg = *file;
     SchemaPrinters printers;
     app::addConfigSchemas(printers);
     printers.print(IniReader{cfg, path});
