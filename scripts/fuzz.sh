@@ -3,9 +3,9 @@
 # each for a time or a number of executions, then prints one line per target: executions,
 # coverage (edges) and features, and findings.
 #
-# Usage: scripts/fuzz.sh [--seconds N | --runs N] [--no-build] [TARGET...]
-#   --seconds N  fuzz each target for N seconds (default 60)
-#   --runs N     fuzz each target for N executions instead
+# Usage: scripts/fuzz.sh [--seconds N] [--runs N] [--no-build] [TARGET...]
+#   --seconds N  fuzz each target for N seconds (default 60 without --runs)
+#   --runs N     fuzz each target for N executions (with --seconds: whichever comes first)
 #   TARGET       names from tests/fuzz/targets/ (default: all), e.g. rawlog image
 # Targets run one after the other, under nice. The corpus grows in build-fuzz/fuzz/corpus/
 # (the committed seeds in tests/fuzz/corpus/ are only read); a finding is saved in
@@ -15,13 +15,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 BUILD=$ROOT/build-fuzz
-seconds=60
+seconds=""
 runs=""
 build=1
 targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --seconds) seconds=${2:?--seconds needs a number}; runs=""; shift 2 ;;
+    --seconds) seconds=${2:?--seconds needs a number}; shift 2 ;;
     --runs) runs=${2:?--runs needs a number}; shift 2 ;;
     --no-build) build=0; shift ;;
     -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
@@ -29,7 +29,8 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-if ! [[ "$seconds" =~ ^[0-9]+$ ]] || { [ -n "$runs" ] && ! [[ "$runs" =~ ^[0-9]+$ ]]; }; then
+[ -n "$seconds$runs" ] || seconds=60
+if ! [[ "$seconds$runs" =~ ^[0-9]+$ ]]; then
   echo "fuzz.sh: --seconds and --runs take a whole number" >&2
   exit 2
 fi
@@ -65,8 +66,9 @@ fi
 # ASan suite (scripts/sanitize.sh) on our own tests instead.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:allocator_may_return_null=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-limit=(-max_total_time="$seconds")
-[ -z "$runs" ] || limit=(-runs="$runs")
+limit=()
+[ -z "$seconds" ] || limit+=(-max_total_time="$seconds")
+[ -z "$runs" ] || limit+=(-runs="$runs")
 status=0
 rows=()
 for t in "${targets[@]}"; do

@@ -17,6 +17,7 @@
 #include "common/errors.hpp"
 #include "config/ini_reader.hpp"
 #include "sensors/camera/camera_model.hpp"
+#include "tests/app/test_cli_run.hpp"
 #include "tests/fuzz/targets/fuzz_io.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -111,6 +112,11 @@ TEST(FuzzRegressions, IniWithBadPreprocessorSyntaxIsAnInputErrorNamingTheFile) {
   const std::string path = writeFile("camera.ini", bytes.substr(1));  // byte 0: the selector
   expectRefused(path, "Expected closing", [&] { CameraModel::loadIniFile(path, "camera"); });
   expectRefused(path, "not a readable .ini file", [&] { openIniFile(path); });
+  // What a user saw: exit 1 and MRPT's banner and call stack.
+  const test::CliRun r = test::runCli("config '" + path + "'");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(path + ": not a readable .ini file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("Call stack"), std::string::npos) << r.err;
 }
 
 }  // namespace
