@@ -5,16 +5,13 @@
 /// every reader is given the current value and returns it when the key is absent.
 /// Declarative schemas built on this reader: config/schema.hpp.
 #pragma once
+#include <mrpt/config/CConfigFile.h>  // openIniFile's caller destroys what it returns
+
 #include <cstdint>
 #include <memory>
 #include <set>
 #include <string>
 #include <vector>
-
-namespace mrpt::config {
-class CConfigFileBase;
-class CConfigFile;
-}
 
 namespace st {
 
