@@ -4,9 +4,8 @@
 #
 # Usage: scripts/sanitize.sh [REGEX] [-- extra ctest args]
 #   REGEX  ctest -R pattern, e.g. 'Catalog|Rawlog' (default: every test)
-# Any ASan/UBSan report fails its test (UBSan stops at the first error). Takes about the
-# suite's time times 2-3 after a build of everything (the build's objects differ from
-# build/'s, so the first build is a full one).
+# Any ASan/UBSan report fails its test (UBSan stops at the first error). The first run
+# builds everything once more (its objects differ from build/'s), then runs the suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 regex=""
@@ -17,8 +16,7 @@ if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cc
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DST_SANITIZE=ON -DST_BUILD_BENCHMARKS=OFF \
   "${launcher[@]}" >/dev/null
 nice -n 10 cmake --build build-asan -j"$(nproc)"
-# Leaks: MRPT keeps its class registry and OpenCV its buffers for the process's life; the
-# suite passes with leak checking on, so it stays on.
+# Leak checking stays on (ASan's default): our tests' processes are ours to keep clean.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:strict_string_checks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 args=(--test-dir build-asan --output-on-failure -j"$(nproc)")
