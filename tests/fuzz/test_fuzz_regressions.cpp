@@ -119,5 +119,13 @@ TEST(FuzzRegressions, IniWithBadPreprocessorSyntaxIsAnInputErrorNamingTheFile) {
   EXPECT_EQ(r.err.find("Call stack"), std::string::npos) << r.err;
 }
 
+// An OpenCV YAML camera file whose camera_matrix declares a huge size: OpenCV's reader
+// allocated and zeroed it (> 20 s under ASan, a fuzz timeout) before the 3x3 check.
+TEST(FuzzRegressions, CameraYamlWithAHugeDeclaredMatrixIsRefusedBeforeReadingIt) {
+  const std::string bytes = readBytes(reproducer("camera", "yaml_huge_matrix_timeout"));
+  const std::string path = writeFile("camera.yaml", bytes.substr(1));  // byte 0: the selector
+  expectRefused(path, "matrix (at most 16 values)", [&] { CameraModel::loadYaml(path); });
+}
+
 }  // namespace
 }  // namespace st
