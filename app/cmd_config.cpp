@@ -30,7 +30,8 @@ void addConfigCommand(CLI::App& root, CommandRun& run) {
     run = [o] {
       if (!std::filesystem::is_regular_file(o->file))
         throw InputError(o->file + ": file does not exist");
-      const mrpt::config::CConfigFile cfg(o->file);
+      const auto file = openIniFile(o->file);
+      const mrpt::config::CConfigFile& cfg = *file;
       SchemaPrinters printers;
       addConfigSchemas(printers);
       const std::string text = printers.print(IniReader{cfg, o->file}, o->section);

@@ -272,7 +272,8 @@ int runLive(const LiveArgs& args) {
   if (!fs::is_regular_file(args.config, ec))
     throw InputError("live config '" + args.config + "': no such file");
   const fs::path config = fs::absolute(args.config);
-  mrpt::config::CConfigFile cfg(config.string());
+  const auto cfg_file = openIniFile(config.string());
+  mrpt::config::CConfigFile& cfg = *cfg_file;
 
   // Outputs are relative to where the user runs (rawlog_file as -o), checked before any
   // sensor starts; inputs inside the .ini are relative to its folder.

@@ -1,6 +1,7 @@
 // Loader for the Yale Bright Star Catalogue, 5th revised edition, in the binary layout of the
 // Harvard TDC distribution (little-endian): a 28-byte header of seven int32 (STAR0, STAR1,
 // STARN, STNUM, MPROP, NMAG, NBENT), then |STARN| entries of NBENT = 32 bytes each.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -56,7 +57,9 @@ StarCatalog loadBsc5(const std::string& path) {
   cat.format = "bsc5";
   cat.source_path = path;
   cat.epoch_jyear = 2000.0;
-  cat.entries.reserve(n);
+  // n comes from the header: reserve no more than the file can hold (a short file is
+  // refused below, naming the record where it ends).
+  cat.entries.reserve(std::min(n, (bytes.size() - kHeaderBytes) / kEntryBytes));
   for (std::size_t r = 0; r < n; ++r) {
     const std::size_t off = kHeaderBytes + r * kEntryBytes;
     if (off + kEntryBytes > bytes.size())

@@ -265,6 +265,8 @@ void readNeighbours(Reader& rd, const std::string& path, uint8_t width, uint32_t
   for (std::size_t i = 0; i < n; ++i)
     if (start[i + 1] < start[i] || start[0] != 0)
       throw InputError(path + ": star database neighbour offsets not monotonic");
+  // The count comes from the file: check the bytes exist before allocating for them.
+  rd.need(std::size_t(start.back()) * width, "neighbours");
   nbr.resize(start.back());
   for (uint32_t& v : nbr) {
     v = width == 2 ? rd.get<uint16_t>("neighbour") : rd.get<uint32_t>("neighbour");

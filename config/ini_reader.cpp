@@ -1,5 +1,6 @@
 #include "config/ini_reader.hpp"
 
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <algorithm>
@@ -135,6 +136,19 @@ std::string closestKey(const std::string& key, const std::vector<std::string>& c
   // Farther than this is not a typo but a different word: listing the keys helps more.
   const int limit = std::max(2, static_cast<int>(key.size()) / 3);
   return best_d <= limit ? best : "";
+}
+
+std::unique_ptr<mrpt::config::CConfigFile> openIniFile(const std::string& path) {
+  try {
+    return std::make_unique<mrpt::config::CConfigFile>(path);
+  } catch (const std::exception& e) {
+    std::string why = e.what();
+    // MRPT's message: a banner line, the error line, then a call stack.
+    const auto banner = why.find("====\n");
+    if (banner != std::string::npos) why = why.substr(banner + 5);
+    why = why.substr(0, why.find('\n'));
+    throw InputError(path + ": not a readable .ini file (" + why + ")");
+  }
 }
 
 }  // namespace st

@@ -5,14 +5,13 @@
 /// every reader is given the current value and returns it when the key is absent.
 /// Declarative schemas built on this reader: config/schema.hpp.
 #pragma once
+#include <mrpt/config/CConfigFile.h>  // openIniFile's caller destroys what it returns
+
 #include <cstdint>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
-
-namespace mrpt::config {
-class CConfigFileBase;
-}
 
 namespace st {
 
@@ -48,5 +47,9 @@ int editDistance(const std::string& a, const std::string& b);
 /// The candidate nearest to `key` by edit distance when it is close enough to be a typo of
 /// it (distance <= 2, or <= a third of the key's length); "" otherwise.
 std::string closestKey(const std::string& key, const std::vector<std::string>& candidates);
+
+/// MRPT's reader of the .ini file `path`. Its preprocessor ($env{}, $eval{}, @define) throws
+/// MRPT's own exception on bad syntax (found by fuzzing): here an InputError naming the file.
+std::unique_ptr<mrpt::config::CConfigFile> openIniFile(const std::string& path);
 
 }  // namespace st

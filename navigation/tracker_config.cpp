@@ -80,7 +80,8 @@ std::string printTrackerIni(const TrackerIniKeys& k) {
 TrackerConfig TrackerConfig::load(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw InputError(path + ": tracker config not found");
-  mrpt::config::CConfigFile cfg(path);
+  const auto file = openIniFile(path);
+  const mrpt::config::CConfigFile& cfg = *file;
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return fromConfig(cfg, path, dir.empty() ? "." : dir);
 }

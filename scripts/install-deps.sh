@@ -15,6 +15,7 @@ PKGS=(
   gnuplot-nox python3
   pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev
   xvfb xauth
+  clang libfuzzer-14-dev   # scripts/fuzz.sh (libFuzzer, ASan+UBSan)
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -178,8 +178,18 @@ CameraModel CameraModel::loadYaml(const std::string& path) {
   cv::Mat K, D;
   int w = 0, h = 0;
   try {
-    need("camera_matrix") >> K;
-    need("distortion_coefficients") >> D;
+    // A matrix declares its size: check it before OpenCV allocates that much (found by fuzzing:
+    // a declared 10^9 x 10^9 matrix took the reader minutes and gigabytes).
+    auto small = [&](const char* key) {
+      cv::FileNode n = need(key);
+      if (n.isMap() && (int64_t(int(n["rows"])) * int64_t(int(n["cols"])) > 16 ||
+                        int(n["rows"]) < 0 || int(n["cols"]) < 0))
+        throw InputError(path + ": key '" + key + "' declares a " + std::to_string(int(n["rows"])) +
+                         "x" + std::to_string(int(n["cols"])) + " matrix (at most 16 values)");
+      return n;
+    };
+    small("camera_matrix") >> K;
+    small("distortion_coefficients") >> D;
     w = static_cast<int>(need("image_width"));
     h = static_cast<int>(need("image_height"));
   } catch (const cv::Exception& e) {
@@ -280,7 +290,8 @@ CameraIniKeys CameraModel::iniKeys() const {
 
 CameraModel CameraModel::loadIniFile(const std::string& path, const std::string& section) {
   requireFile(path);
-  mrpt::config::CConfigFile cfg(path);
+  const auto file = openIniFile(path);
+  const mrpt::config::CConfigFile& cfg = *file;
   if (!cfg.sectionExists(section)) throw InputError(path + ": missing section [" + section + "]");
   return loadIni(cfg, section, path);
 }

@@ -37,7 +37,8 @@ double parseUtc(const std::string& text, const std::string& where) {
 Scenario Scenario::load(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw InputError(path + ": scenario file does not exist");
-  mrpt::config::CConfigFile cfg(path);
+  const auto file = openIniFile(path);
+  const mrpt::config::CConfigFile& cfg = *file;
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return fromConfig(cfg, path, dir.empty() ? "." : dir);
 }

@@ -1,0 +1,31 @@
+// Rawlogs (sensors/mrpt/rawlog_io): the reader streams object by object, as replay does,
+// through MRPT's deserialization of every class a rawlog may name (ours registered), then
+// the up-to-damage reader replay uses. The input is the uncompressed object stream (MRPT's
+// gz reader takes plain files too): fuzzing through gzip would mostly fuzz zlib's CRC.
+#include <mrpt/obs/CObservationImage.h>
+
+#include <sstream>
+
+#include "sensors/mrpt/rawlog_io.hpp"
+#include "tests/fuzz/targets/fuzz_io.hpp"
+
+namespace st::fuzz {
+
+int rawlog(const std::uint8_t* data, std::size_t size) {
+  const std::string path = writeInput(data, size, ".rawlog");
+  refuseOnlyWithInputError(path, [&] {
+    RawlogReader reader(path);
+    while (auto obs = reader.next()) {
+      std::ostringstream text;  // what rawlog-edit --info and RawLogViewer show
+      obs->getDescriptionAsText(text);
+    }
+  });
+  refuseOnlyWithInputError(path, [&] {
+    RawlogDamage damage;
+    const auto kept = readRawlogUpToDamage(path, &damage);
+    if (damage.damaged && damage.object != kept.size()) std::abort();  // its documented contract
+  });
+  return 0;
+}
+
+}  // namespace st::fuzz

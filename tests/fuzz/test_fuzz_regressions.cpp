@@ -1,0 +1,131 @@
+// Issue 18: the reproducers of fuzz findings (tests/fuzz/regressions/<target>/, kept once
+// fixed) run through their fuzz target exactly as the fuzzer ran them; a crash, a sanitizer
+// report or an exception other than InputError there is the finding back. The named tests
+// below feed each reproducer to its parser and check the refusal's words.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <zlib.h>
+
+#include "catalog/star_catalog.hpp"
+#include "catalog/star_database.hpp"
+#include "common/errors.hpp"
+#include "config/ini_reader.hpp"
+#include "sensors/camera/camera_model.hpp"
+#include "tests/app/test_cli_run.hpp"
+#include "tests/fuzz/targets/fuzz_io.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace st {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Entry {
+  const char* name;
+  fuzz::Target fn;
+};
+const Entry kTargets[] = {
+#define ST_FUZZ_TARGET(name) {#name, &fuzz::name},
+#include "tests/fuzz/target_list.inc"
+#undef ST_FUZZ_TARGET
+};
+
+std::string readBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(FuzzRegressions, EveryReproducerRunsCleanThroughItsTarget) {
+  int ran = 0;
+  for (const Entry& t : kTargets) {
+    const fs::path dir = fs::path(ST_FUZZ_REGRESSIONS_DIR) / t.name;
+    if (!fs::is_directory(dir)) continue;
+    for (const auto& f : fs::directory_iterator(dir)) {
+      SCOPED_TRACE(f.path().string());
+      const std::string bytes = readBytes(f.path());
+      EXPECT_EQ(t.fn(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), 0);
+      ++ran;
+    }
+  }
+  // A folder without a target (renamed target) would silently test nothing.
+  for (const auto& d : fs::directory_iterator(ST_FUZZ_REGRESSIONS_DIR)) {
+    bool known = false;
+    for (const Entry& t : kTargets) known |= d.path().filename() == t.name;
+    EXPECT_TRUE(!d.is_directory() || known) << d.path() << ": no fuzz target of that name";
+  }
+  RecordProperty("reproducers", ran);
+}
+
+fs::path reproducer(const std::string& target, const std::string& name) {
+  return fs::path(ST_FUZZ_REGRESSIONS_DIR) / target / name;
+}
+
+/// Copies `bytes` to a fresh file named `name` and returns its path.
+std::string writeFile(const std::string& name, const std::string& bytes) {
+  const std::string path = test::makeTempDir("fuzz_regressions") + "/" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+/// Expects `parse` to throw InputError naming `path` and saying `words`.
+template <class F>
+void expectRefused(const std::string& path, const std::string& words, F&& parse) {
+  try {
+    parse();
+    ADD_FAILURE() << path << ": accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find(words), std::string::npos) << what;
+  }
+}
+
+// A star database (valid checksum) whose neighbour table claims 2^31 entries: the loader
+// allocated 2.2 GB for them before finding the file too short.
+TEST(FuzzRegressions, StarDatabaseNeighbourCountBeyondTheFileIsRefusedBeforeAllocating) {
+  std::string bytes = readBytes(reproducer("star_database", "neighbour_count_oom"));
+  const auto crc = std::uint32_t(crc32(crc32(0L, Z_NULL, 0),
+                                       reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size())));
+  for (int i = 0; i < 4; ++i) bytes += char(crc >> (8 * i));  // as the fuzz target does
+  const std::string path = writeFile("neighbours.db", bytes);
+  expectRefused(path, "truncated or corrupt while reading neighbours", [&] { StarDatabase::load(path); });
+}
+
+// A 260-byte BSC5 file whose header announces 16.8 million records: the loader reserved
+// 1.2 GB for them (12 s under ASan) before finding the file too short.
+TEST(FuzzRegressions, Bsc5RecordCountBeyondTheFileIsRefusedNamingTheRecord) {
+  const std::string bytes = readBytes(reproducer("catalog", "bsc5_record_count_slow"));
+  const std::string path = writeFile("bsc5", bytes.substr(1));  // byte 0: the target's selector
+  expectRefused(path, "truncated at record", [&] { loadBsc5(path); });
+}
+
+// A camera .ini with an unclosed `$env{`: MRPT's preprocessor threw its own exception out of
+// the CConfigFile constructor (`startracker config` exited 1 printing MRPT's call stack).
+TEST(FuzzRegressions, IniWithBadPreprocessorSyntaxIsAnInputErrorNamingTheFile) {
+  const std::string bytes = readBytes(reproducer("camera", "ini_env_unclosed"));
+  const std::string path = writeFile("camera.ini", bytes.substr(1));  // byte 0: the selector
+  expectRefused(path, "Expected closing", [&] { CameraModel::loadIniFile(path, "camera"); });
+  expectRefused(path, "not a readable .ini file", [&] { openIniFile(path); });
+  // What a user saw: exit 1 and MRPT's banner and call stack.
+  const test::CliRun r = test::runCli("config '" + path + "'");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(path + ": not a readable .ini file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("Call stack"), std::string::npos) << r.err;
+}
+
+// An OpenCV YAML camera file whose camera_matrix declares a huge size: OpenCV's reader
+// allocated and zeroed it (> 20 s under ASan, a fuzz timeout) before the 3x3 check.
+TEST(FuzzRegressions, CameraYamlWithAHugeDeclaredMatrixIsRefusedBeforeReadingIt) {
+  const std::string bytes = readBytes(reproducer("camera", "yaml_huge_matrix_timeout"));
+  const std::string path = writeFile("camera.yaml", bytes.substr(1));  // byte 0: the selector
+  expectRefused(path, "matrix (at most 16 values)", [&] { CameraModel::loadYaml(path); });
+}
+
+}  // namespace
+}  // namespace st
