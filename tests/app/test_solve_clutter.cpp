@@ -52,6 +52,7 @@ struct Solution {
   Quat q_ic = Quat::Identity();
   std::size_t matches = 0, detected = 0;
   double rms_px = 0;
+  std::string reason;
 };
 
 Solution solveImage(const cv::Mat& img, double hfov_deg) {
@@ -67,6 +68,7 @@ Solution solveImage(const cv::Mat& img, double hfov_deg) {
   s.q_ic = r.result.q_ic;
   s.matches = r.result.matches.size();
   s.rms_px = r.result.rms_residual_px;
+  s.reason = r.result.reason;
   return s;
 }
 
@@ -202,8 +204,10 @@ SensorParams clutterSensor() {
 struct SimFrame {
   cv::Mat image;
   Quat q_ib;
+  std::vector<TrueStar> truth;
 };
 
+/// The sky of `seed` (attitude, star noise) with clutter `c` drawn from its own stream.
 SimFrame simulate(Clutter c, uint64_t seed) {
   const StarDatabase& db = databaseFor(kHfovDeg, kW, kH);
   static const DatabaseStarSource source(db);
@@ -214,27 +218,28 @@ SimFrame simulate(Clutter c, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   SimFrame f;
+  std::mt19937_64 crng(seed * 1000 + static_cast<uint64_t>(c));
   // A random boresight (uniform on the sphere) and roll.
   f.q_ib = attitudeFromRaDecRoll({2 * M_PI * u(rng), std::asin(2 * u(rng) - 1), 2 * M_PI * u(rng)});
   cv::Mat e = detector.meanBackground().clone();
-  renderer.render([&](double) { return f.q_ib; }, e);
+  f.truth = renderer.render([&](double) { return f.q_ib; }, e);
   const double sky = sensor.sky_e_px_s * sensor.exposure_s;
   std::uniform_real_distribution<double> frac(0.2, 0.5);
   switch (c) {
     case Clutter::Clean: break;
-    case Clutter::DarkForeground: foreground(e, frac(rng), 0.3 * sky, false, rng); break;
-    case Clutter::LitForeground: foreground(e, frac(rng), 20 * sky, true, rng); break;
+    case Clutter::DarkForeground: foreground(e, frac(crng), 0.3 * sky, false, crng); break;
+    case Clutter::LitForeground: foreground(e, frac(crng), 20 * sky, true, crng); break;
     case Clutter::LinearGradient: linearGradient(e, 10 * sky); break;
     case Clutter::RadialGradient: radialGradient(e, 10 * sky); break;
-    case Clutter::Glow: glow(e, 100 * sky, rng); break;
-    case Clutter::Trail: trail(e, 30 * sky, rng); break;
-    case Clutter::DarkBranches: branches(e, 0.3 * sky, rng); break;
-    case Clutter::HotClusters: hotClusters(e, sensor.full_well_e, rng); break;
+    case Clutter::Glow: glow(e, 100 * sky, crng); break;
+    case Clutter::Trail: trail(e, 30 * sky, crng); break;
+    case Clutter::DarkBranches: branches(e, 0.3 * sky, crng); break;
+    case Clutter::HotClusters: hotClusters(e, sensor.full_well_e, crng); break;
     case Clutter::Everything:
       linearGradient(e, 10 * sky);
-      foreground(e, frac(rng), 20 * sky, true, rng);
-      trail(e, 30 * sky, rng);
-      hotClusters(e, sensor.full_well_e, rng);
+      foreground(e, frac(crng), 20 * sky, true, crng);
+      trail(e, 30 * sky, crng);
+      hotClusters(e, sensor.full_well_e, crng);
       break;
   }
   f.image = detector.expose(e, rng);
@@ -264,7 +269,7 @@ TEST(SolveClutter, SimulatedFramesWithClutterSolveWithNoWrongAttitude) {
     int solved = 0, wrong = 0;
     double worst = 0;
     for (uint64_t seed : ss) {
-      const SimFrame f = simulate(c, seed * 1000 + static_cast<uint64_t>(ci));
+      const SimFrame f = simulate(c, seed);
       const Solution s = solveImage(f.image, kHfovDeg);
       if (!s.solved) continue;
       const double err = arcsecBetween(s.q_ic, f.q_ib);
@@ -380,5 +385,32 @@ TEST(SolveClutter, SixteenBitCopiesOfAnEightBitFrameSolveAsTheEightBitFrame) {
   }
 }
 
+}  // namespace
+}  // namespace st
+
+namespace st {
+namespace {
+// Debug aid (disabled): writes the frames and prints the detections.
+TEST(SolveClutter, DISABLED_Dump) {
+  const auto ss = seeds(2);
+  for (int ci = 0; ci <= static_cast<int>(Clutter::Everything); ++ci) {
+    const SimFrame f = simulate(static_cast<Clutter>(ci), ss[0]);
+    cv::imwrite("/tmp/clutter_" + std::to_string(ci) + ".png", f.image);
+    const DetectionResult d = detectStars(f.image);
+    int flags[32] = {};
+    for (const auto& s : d.stars) for (int b = 0; b < 5; ++b) flags[b] += (s.flags >> b) & 1;
+    const Solution s = solveImage(f.image, kHfovDeg);
+    std::printf("%s: blobs %d rejected %d stars %zu bg %.1f sigma %.2f flags sat %d elong %d; %s %zu\n",
+                clutterName(static_cast<Clutter>(ci)), d.blobs_found, d.rejected, d.stars.size(),
+                d.background, d.noise_sigma, flags[0], flags[2], s.solved ? "solved" : s.reason.c_str(), s.matches);
+    for (std::size_t i = 0; i < std::min<std::size_t>(d.stars.size(), 14); ++i) {
+      bool real = false;
+      for (const TrueStar& t : f.truth) real |= (t.px - d.stars[i].px).norm() < 2;
+      std::printf("   (%.0f,%.0f) flux %.0f peak %.0f area %d flags %u %s\n", d.stars[i].px.x(),
+                  d.stars[i].px.y(), d.stars[i].flux, d.stars[i].peak, d.stars[i].area,
+                  d.stars[i].flags, real ? "star" : "FALSE");
+    }
+  }
+}
 }  // namespace
 }  // namespace st
