@@ -78,8 +78,8 @@ double ringMean(const cv::Mat& grey, const cv::Rect& box, double b) {
 // background b and the PSF sigma they give (0 when they give none).
 template <typename T>
 uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, double b,
-                   double sb, double sat, const DetectorOptions& opts, Moments& mom,
-                   double& psf, bool& flat_top) {
+                   double sb, double sat, const DetectorOptions& opts, double psf_lim,
+                   Moments& mom, double& psf, bool& flat_top) {
   const cv::Rect frame(0, 0, grey.cols, grey.rows);
   const cv::Rect box = c.box();
   uint32_t flags = 0;
@@ -106,13 +106,20 @@ uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, 
   // Extended: wider across its narrow axis than a PSF, beyond what a saturated core (a flat
   // disc of n_sat pixels: variance n_sat / (4 pi) per axis) explains.
   const double minor_var = mom.minorVariance() - 1.0 / 12.0;
-  if (minor_var > opts.max_psf_sigma_px * opts.max_psf_sigma_px + 1.5 * n_sat / (4 * M_PI))
+  if (minor_var > psf_lim * psf_lim + 1.5 * n_sat / (4 * M_PI)) flags |= kExtended;
+  // A clipped top with more pixels below half of it than a star's wings hold: a PSF of sigma
+  // s puts 2 pi s^2 ln(P / 2T) pixels between the threshold T and half the peak P (the
+  // clip hides the true peak: twice the rule's count).
+  const double thr = opts.threshold_sigma * sb;
+  if (flat_top && n_low > 4 * M_PI * psf_lim * psf_lim *
+                              std::log(std::max((c.peak_raw - b) / (2 * thr), 2.0)) + 10)
     flags |= kExtended;
-  // A cluster of hot pixels: bright (> kHotClusterSigma), small, no pixel of the blob below
-  // half its peak and nothing just around it. The sharpest star (PSF sigma 0.5 px, centred on
-  // a pixel corner: four equal pixels) puts 3.2 % of its peak on the ring around its box;
+  // A cluster of hot pixels, or a lamp or a lit window in the foreground: bright
+  // (> kHotClusterSigma), small or flat-topped, no pixel of the blob below half its peak and
+  // nothing just around it. The sharpest star (PSF sigma 0.5 px, centred on a pixel corner:
+  // four equal pixels) puts 3.2 % of its peak on the ring around its box, a clipped one more;
   // the ring's noise is below 0.3 % of such a peak.
-  if (c.area <= 9 && n_low == 0 && c.peak_raw - b > kHotClusterSigma * sb &&
+  if ((c.area <= 9 || flat_top) && n_low == 0 && c.peak_raw - b > kHotClusterSigma * sb &&
       ringMean<T>(grey, box, b) < 0.015 * (c.peak_raw - b))
     flags |= kHotPixel;
   if (flags & kSaturated) return flags;
@@ -150,6 +157,36 @@ bool centroidBlob(const cv::Mat& grey, const Blob& c, const Moments& mom, double
   return measure(main, cog, patch, star, nullptr);
 }
 
+// [px] The widest PSF sigma a star of this frame may have: twice the median moment sigma of
+// the most significant unclipped blobs (the moments of a star above the threshold understate
+// its sigma), plus half a pixel; opts.max_psf_sigma_px when fewer than 5 tell. Clutter
+// (lamps, edges, glows) is wider or clipped, and rarely the majority of the most significant.
+template <typename T>
+double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, double sat) {
+  const BackgroundModel& bg = s.background;
+  const std::vector<Blob>& blobs = s.labeller.blobs();
+  thread_local std::vector<double> sig;
+  sig.clear();
+  for (std::size_t i = 0; i < s.candidates.size() && i < 30; ++i) {
+    const Blob& c = blobs[static_cast<std::size_t>(s.candidates[i].blob)];
+    if (c.area < 3 || c.peak_raw >= sat) continue;
+    const double b = bg.levelAt(c.peak.x, c.peak.y);
+    Moments mom;
+    int n_top = 0;
+    s.labeller.forEachPixel(grey, c, [&](int x, int y, double v) {
+      mom.add(x, y, v - b);
+      n_top += v >= c.peak_raw;
+    });
+    double elong = 1, psf = 0;
+    mom.shape(elong, psf);
+    if (n_top < 2 && elong <= opts.max_elongation && psf > 0) sig.push_back(psf);
+  }
+  if (sig.size() < 5) return opts.max_psf_sigma_px;
+  const auto mid = sig.begin() + static_cast<std::ptrdiff_t>(sig.size() / 2);
+  std::nth_element(sig.begin(), mid, sig.end());
+  return std::min(opts.max_psf_sigma_px, 2 * *mid + 0.5);
+}
+
 // Brightest first, ties in candidate order. An insertion sort: stable without
 // std::stable_sort's temporary buffer (an allocation per frame), and about linear here since
 // the candidates came sorted by a flux estimate already.
@@ -168,6 +205,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
   const std::vector<Blob>& blobs = lab.blobs();
   rankCandidates(opts, s, res);
   const std::vector<Candidate>& cands = s.candidates;
+  const double psf_lim = psfLimit<T>(grey, opts, s, sat);
   const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
   res.stars.reserve(static_cast<std::size_t>(std::min<std::size_t>(
       static_cast<std::size_t>(opts.max_stars), cands.size())));
@@ -191,7 +229,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
     Moments mom;
     double psf = 0;
     bool flat_top = false;
-    uint32_t flags = blobFlags<T>(grey, c, lab, b, sb, sat, opts, mom, psf, flat_top);
+    uint32_t flags = blobFlags<T>(grey, c, lab, b, sb, sat, opts, psf_lim, mom, psf, flat_top);
     Centroid star;
     if ((flags & opts.reject_flags) ||
         !centroidBlob<T>(grey, c, mom, b, sb, sat, psf, opts, main, cog, s, star)) {
@@ -202,7 +240,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
     // fitted flux over the peak is 2 pi sigma^2 for a star of PSF sigma. A clipped top lowers
     // the peak of a bright star: those are judged by their shape alone.
     if (!(flags & kSaturated) && !flat_top && star.peak > 0 &&
-        star.flux > 2 * M_PI * opts.max_psf_sigma_px * opts.max_psf_sigma_px * star.peak) {
+        star.flux > 2 * M_PI * psf_lim * psf_lim * star.peak) {
       flags |= kExtended;
       if (flags & opts.reject_flags) {
         ++res.rejected;
