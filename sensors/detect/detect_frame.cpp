@@ -78,8 +78,8 @@ double ringMean(const cv::Mat& grey, const cv::Rect& box, double b) {
 // background b and the PSF sigma they give (0 when they give none).
 template <typename T>
 uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, double b,
-                   double sb, double sat, const DetectorOptions& opts, double psf_lim,
-                   Moments& mom, double& psf, bool& flat_top) {
+                   double sb, double sat, double top, const DetectorOptions& opts,
+                   double psf_lim, Moments& mom, double& psf, bool& flat_top) {
   const cv::Rect frame(0, 0, grey.cols, grey.rows);
   const cv::Rect box = c.box();
   uint32_t flags = 0;
@@ -95,10 +95,10 @@ uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, 
     n_top += v >= c.peak_raw;
     n_low += v < half;
   });
-  // Two or more pixels at the maximum, far above the noise: a clipped top, also where the
-  // clip level is not known (12-bit data in a 16-bit word without a shift clip at 4095).
-  // Near the noise, ties of whole-number values are common and say nothing.
-  flat_top = n_top >= 2 && c.peak_raw - b > kFlatTopSigma * sb;
+  // Two or more pixels at the frame's highest value `top`, far above the noise: a clipped
+  // top, also where the clip level is not known (12-bit data in a 16-bit word without a
+  // shift clip at 4095). Ties at lower values (a lit foreground's mottling) say nothing.
+  flat_top = n_top >= 2 && c.peak_raw >= top && c.peak_raw - b > kFlatTopSigma * sb;
   double elong = 1;
   psf = 0;
   mom.shape(elong, psf);
@@ -108,10 +108,10 @@ uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, 
   const double minor_var = mom.minorVariance() - 1.0 / 12.0;
   if (minor_var > psf_lim * psf_lim + 1.5 * n_sat / (4 * M_PI)) flags |= kExtended;
   // A clipped top with more pixels below half of it than a star's wings hold: a PSF of sigma
-  // s puts 2 pi s^2 ln(P / 2T) pixels between the threshold T and half the peak P (the
-  // clip hides the true peak: twice the rule's count).
+  // s puts 2 pi s^2 ln(P / 2T) pixels between the threshold T and half the peak P; psf_lim
+  // is already twice the frame's PSF.
   const double thr = opts.threshold_sigma * sb;
-  if (flat_top && n_low > 4 * M_PI * psf_lim * psf_lim *
+  if (flat_top && n_low > 2 * M_PI * psf_lim * psf_lim *
                               std::log(std::max((c.peak_raw - b) / (2 * thr), 2.0)) + 10)
     flags |= kExtended;
   // A cluster of hot pixels, or a lamp or a lit window in the foreground: bright
@@ -187,12 +187,21 @@ double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, do
   return std::min(opts.max_psf_sigma_px, 2 * *mid + 0.5);
 }
 
-// Brightest first, ties in candidate order. An insertion sort: stable without
-// std::stable_sort's temporary buffer (an allocation per frame), and about linear here since
-// the candidates came sorted by a flux estimate already.
+// Brightest first, ties in candidate order; when most stars are round, the elongated ones
+// after all round ones (a trail, a branch's lit edge, a glow's rim: their flux says little
+// about a star's magnitude, and the brightest few form the patterns of lost-in-space). In a
+// slew most are streaks and the order is by flux alone. An insertion sort: stable without
+// std::stable_sort's temporary buffer (an allocation per frame).
 void sortBrightestFirst(std::vector<Centroid>& stars) {
+  std::size_t elongated = 0;
+  for (const Centroid& c : stars) elongated += (c.flags & kElongated) != 0;
+  const bool demote = 2 * elongated < stars.size();
+  const auto before = [demote](const Centroid& a, const Centroid& b) {
+    const bool ea = demote && (a.flags & kElongated), eb = demote && (b.flags & kElongated);
+    return ea != eb ? eb : a.flux > b.flux;
+  };
   for (std::size_t i = 1; i < stars.size(); ++i)
-    for (std::size_t j = i; j > 0 && stars[j].flux > stars[j - 1].flux; --j)
+    for (std::size_t j = i; j > 0 && before(stars[j], stars[j - 1]); --j)
       std::swap(stars[j], stars[j - 1]);
 }
 
@@ -206,6 +215,9 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
   rankCandidates(opts, s, res);
   const std::vector<Candidate>& cands = s.candidates;
   const double psf_lim = psfLimit<T>(grey, opts, s, sat);
+  double top = 0;  // the frame's highest value above the threshold: the clip, if any clipped
+  for (const Blob& c : blobs) top = std::max(top, c.peak_raw);
+  top = std::min(top, sat);
   const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
   res.stars.reserve(static_cast<std::size_t>(std::min<std::size_t>(
       static_cast<std::size_t>(opts.max_stars), cands.size())));
@@ -229,7 +241,8 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
     Moments mom;
     double psf = 0;
     bool flat_top = false;
-    uint32_t flags = blobFlags<T>(grey, c, lab, b, sb, sat, opts, psf_lim, mom, psf, flat_top);
+    uint32_t flags =
+        blobFlags<T>(grey, c, lab, b, sb, sat, top, opts, psf_lim, mom, psf, flat_top);
     Centroid star;
     if ((flags & opts.reject_flags) ||
         !centroidBlob<T>(grey, c, mom, b, sb, sat, psf, opts, main, cog, s, star)) {
