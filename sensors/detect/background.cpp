@@ -5,8 +5,6 @@
 #include <cstdint>
 #include <numeric>
 
-#include <opencv2/imgproc.hpp>
-
 namespace st {
 namespace {
 
@@ -306,7 +304,8 @@ void thresholdMask(const cv::Mat& grey, const BackgroundModel& m, double k, cv::
   thread_local std::vector<double> lv, sv;
   lv.resize(static_cast<std::size_t>(m.tiles_x));
   sv.resize(lv.size());
-  map.create(grey.size(), CV_32F);
+  map.create(1, grey.cols, CV_32F);
+  mask.create(grey.size(), CV_8U);
   const int last = std::max(m.tiles_x - 2, 0);
   for (int y = 0; y < grey.rows; ++y) {
     for (int i = 0; i < m.tiles_x; ++i) {
@@ -314,7 +313,7 @@ void thresholdMask(const cv::Mat& grey, const BackgroundModel& m, double k, cv::
       lv[static_cast<std::size_t>(i)] = m.levelAt(cx, y);
       sv[static_cast<std::size_t>(i)] = m.sigmaAt(cx, y);
     }
-    float* row = map.ptr<float>(y);
+    float* row = map.ptr<float>(0);
     for (int x = 0; x < grey.cols; ++x) {
       const double fx = (x + 0.5) / m.tile - 0.5;
       const int i0 = std::clamp(static_cast<int>(std::floor(fx)), 0, last);
@@ -327,10 +326,15 @@ void thresholdMask(const cv::Mat& grey, const BackgroundModel& m, double k, cv::
                        as * (sv[static_cast<std::size_t>(i1)] - sv[static_cast<std::size_t>(i0)]);
       row[x] = static_cast<float>(l + k * s);
     }
+    uint8_t* out = mask.ptr<uint8_t>(y);
+    if (grey.depth() == CV_8U) {
+      const uint8_t* g = grey.ptr<uint8_t>(y);
+      for (int x = 0; x < grey.cols; ++x) out[x] = g[x] > row[x] ? 255 : 0;
+    } else {
+      const uint16_t* g = grey.ptr<uint16_t>(y);
+      for (int x = 0; x < grey.cols; ++x) out[x] = g[x] > row[x] ? 255 : 0;
+    }
   }
-  cv::Mat thr;  // floor: an integer pixel v > t iff v > floor(t)
-  map.convertTo(thr, grey.depth(), 1.0, -0.5);  // rounds t - 0.5: floor(t), saturating
-  cv::compare(grey, thr, mask, cv::CMP_GT);
 }
 
 }  // namespace st

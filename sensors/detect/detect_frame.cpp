@@ -300,9 +300,10 @@ void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroi
   // Threshold at k sigma above the (tiled) background (seed 004 §4.1), blobs 8-connected.
   BlobLabeller& lab = s.labeller;
   const double k = opts.threshold_sigma;
-  // A gradient (or an edge) across the tiles: the threshold follows the interpolated level
-  // pixel by pixel; else it is constant per tile (a cheaper compare).
-  const bool follow = bg.gradient;
+  // A gradient (or an edge) that even the finer tiles of a graded background step across:
+  // the threshold follows the interpolated level pixel by pixel; else it is constant per tile
+  // (a sparse compare: vignetting and mild sky glow stay on the fast path).
+  const bool follow = bg.gradient && hasGradient(bg, kMaxTileChangeSigma);
   if (opts.prefilter == "none" && !follow) {
     // Sparse: only the pixels above the threshold are ever visited after the compare.
     std::vector<double>& thr = s.thresholds;
