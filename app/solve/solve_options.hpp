@@ -46,6 +46,18 @@ struct SolveOptions {
   std::optional<PositionHint> positionHint() const;
 };
 
+/// The widest image diagonal [deg] solve takes: it models the lens as a pinhole, and the star
+/// database of a wider field holds pairs across most of the sky (measured: 0.8 GB and over a
+/// minute to build for a 114 deg diagonal).
+constexpr double kMaxSolveDiagonalDeg = 120;
+/// The coarsest pixel scale [deg/px] solve takes: unresolved doubles (1.5 px) are merged in
+/// the star database, which merges below 1 deg.
+constexpr double kMaxSolvePixelScaleDeg = 0.66;
+
+/// InputError (exit 2) naming the flag and value (--fov-deg, --fov-range) or the camera file
+/// when the field of view on a `width` x `height` image is outside what solve handles.
+void requireSolvableFov(const SolveOptions& o, int width, int height);
+
 /// Runs the command: 0 solved, 1 not solved, InputError (exit 2) on bad input. With --json
 /// stdout receives exactly one JSON object per frame, also when an error ends the run (see
 /// solve_output.hpp for the schema). A batch (several inputs or a folder) exits with its

@@ -43,6 +43,7 @@ struct CameraSearch {
 };
 
 CameraSearch cameraSearch(const SolveOptions& o, int w, int h) {
+  requireSolvableFov(o, w, h);
   CameraSearch cs;
   if (o.camera.given()) {
     cs.fixed = o.camera.resolve(w, h);

@@ -15,7 +15,8 @@ enum CentroidFlag : uint32_t {
   kSaturated = 1,     ///< at least one pixel at the saturation level: position less reliable
   kTouchesEdge = 2,   ///< the blob touches the image border: light lost, position biased
   kElongated = 4,     ///< second moments far from round: streak, double star or artefact
-  kHotPixel = 8,      ///< a single bright pixel with dark neighbours (not PSF-like)
+  kHotPixel = 8,      ///< a single bright pixel, or a saturated cluster, with dark neighbours
+  kExtended = 16,     ///< wider than any PSF across its narrow axis: foreground, glow, edge
 };
 
 struct Centroid {

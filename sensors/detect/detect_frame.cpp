@@ -12,8 +12,34 @@
 namespace st::detect_detail {
 namespace {
 
-// Blobs of an accepted area, ranked by their brightness above the local background
-// (brightest first).
+// [background sigmas] the least peak of a blob judged as a hot-pixel cluster (see blobFlags).
+constexpr double kHotClusterSigma = 100;
+// [background sigmas] the least peak whose ties are read as a clipped top (see blobFlags).
+constexpr double kFlatTopSigma = 20;
+
+// Level of the one-pixel border of `r` (inside the frame): the background right around a
+// blob. Where the background curves (a glow's core) or steps (a skyline), the tiles'
+// interpolation misses it by many sigmas; a star's surroundings are its background.
+template <typename T>
+double borderLevel(const cv::Mat& grey, const cv::Rect& r, std::vector<float>& buf) {
+  buf.clear();
+  for (int x = r.x; x < r.x + r.width; ++x) {
+    buf.push_back(static_cast<float>(pix<T>(grey, x, r.y)));
+    buf.push_back(static_cast<float>(pix<T>(grey, x, r.y + r.height - 1)));
+  }
+  for (int y = r.y + 1; y + 1 < r.y + r.height; ++y) {
+    buf.push_back(static_cast<float>(pix<T>(grey, r.x, y)));
+    buf.push_back(static_cast<float>(pix<T>(grey, r.x + r.width - 1, y)));
+  }
+  double level = 0, sigma = 0;
+  robustLevelSigma(buf, level, sigma);
+  return level;
+}
+
+// Blobs of an accepted area, ranked by the significance of their peak above the local
+// background, in local noise sigmas (most significant first). Not by total flux: a lit
+// foreground, a glow or a skyline's edge holds far more light than any star, in a blob that
+// is only a few sigma above its surroundings; a star is a sharp peak.
 void rankCandidates(const DetectorOptions& opts, Scratch& s, DetectionResult& res) {
   const BackgroundModel& bg = s.background;
   const std::vector<Blob>& blobs = s.labeller.blobs();
@@ -25,19 +51,35 @@ void rankCandidates(const DetectorOptions& opts, Scratch& s, DetectionResult& re
       ++res.rejected;
       continue;
     }
-    const cv::Rect box = bl.box();
-    const double b = bg.levelAt(box.x + 0.5 * box.width, box.y + 0.5 * box.height);
-    cands.push_back({static_cast<int>(i), bl.sum_raw - bl.area * b});
+    const double x = bl.peak.x, y = bl.peak.y;
+    cands.push_back({static_cast<int>(i), (bl.peak_raw - bg.levelAt(x, y)) / bg.sigmaAt(x, y)});
   }
   std::sort(cands.begin(), cands.end(),
             [](const Candidate& a, const Candidate& b) { return a.sum > b.sum; });
 }
 
-// Flags of a blob (edge, saturation, elongation, hot pixel), its moments above the
+// Mean above `b` of the pixels just outside the blob's box (its ring), 0 when none.
+template <typename T>
+double ringMean(const cv::Mat& grey, const cv::Rect& box, double b) {
+  const cv::Rect frame(0, 0, grey.cols, grey.rows);
+  const cv::Rect outer = cv::Rect(box.x - 1, box.y - 1, box.width + 2, box.height + 2) & frame;
+  double sum = 0;
+  int n = 0;
+  for (int y = outer.y; y < outer.y + outer.height; ++y)
+    for (int x = outer.x; x < outer.x + outer.width; ++x)
+      if (!box.contains({x, y})) {
+        sum += pix<T>(grey, x, y) - b;
+        ++n;
+      }
+  return n > 0 ? sum / n : 0;
+}
+
+// Flags of a blob (edge, saturation, elongation, hot pixel, extended), its moments above the
 // background b and the PSF sigma they give (0 when they give none).
 template <typename T>
 uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, double b,
-                   double sat, const DetectorOptions& opts, Moments& mom, double& psf) {
+                   double sb, double sat, double top, const DetectorOptions& opts,
+                   double psf_lim, Moments& mom, double& psf, bool& flat_top) {
   const cv::Rect frame(0, 0, grey.cols, grey.rows);
   const cv::Rect box = c.box();
   uint32_t flags = 0;
@@ -45,18 +87,48 @@ uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, 
       box.y + box.height == grey.rows)
     flags |= kTouchesEdge;
   if (c.peak_raw >= sat) flags |= kSaturated;
-  lab.forEachPixel(grey, c, [&](int x, int y, double v) { mom.add(x, y, v - b); });
+  int n_sat = 0, n_top = 0, n_low = 0;
+  const double half = 0.5 * (c.peak_raw + b);
+  lab.forEachPixel(grey, c, [&](int x, int y, double v) {
+    mom.add(x, y, v - b);
+    n_sat += v >= sat;
+    n_top += v >= c.peak_raw;
+    n_low += v < half;
+  });
+  // Two or more pixels at the frame's highest value `top`, far above the noise: a clipped
+  // top, also where the clip level is not known (12-bit data in a 16-bit word without a
+  // shift clip at 4095). Ties at lower values (a lit foreground's mottling) say nothing.
+  flat_top = n_top >= 2 && c.peak_raw >= top && c.peak_raw - b > kFlatTopSigma * sb;
   double elong = 1;
   psf = 0;
   mom.shape(elong, psf);
   if (elong > opts.max_elongation) flags |= kElongated;
+  // Extended: wider across its narrow axis than a PSF, beyond what a saturated core (a flat
+  // disc of n_sat pixels: variance n_sat / (4 pi) per axis) explains.
+  const double minor_var = mom.minorVariance() - 1.0 / 12.0;
+  if (minor_var > psf_lim * psf_lim + 1.5 * n_sat / (4 * M_PI)) flags |= kExtended;
+  // A clipped top with more pixels below half of it than a star's wings hold: a PSF of sigma
+  // s puts 2 pi s^2 ln(P / 2T) pixels between the threshold T and half the peak P; psf_lim
+  // is already twice the frame's PSF.
+  const double thr = opts.threshold_sigma * sb;
+  if (flat_top && n_low > 2 * M_PI * psf_lim * psf_lim *
+                              std::log(std::max((c.peak_raw - b) / (2 * thr), 2.0)) + 10)
+    flags |= kExtended;
+  // A cluster of hot pixels, or a lamp or a lit window in the foreground: bright
+  // (> kHotClusterSigma), small or flat-topped, no pixel of the blob below half its peak and
+  // nothing just around it. The sharpest star (PSF sigma 0.5 px, centred on a pixel corner:
+  // four equal pixels) puts 3.2 % of its peak on the ring around its box, a clipped one more;
+  // the ring's noise is below 0.3 % of such a peak.
+  if ((c.area <= 9 || flat_top) && n_low == 0 && c.peak_raw - b > kHotClusterSigma * sb &&
+      ringMean<T>(grey, box, b) < 0.015 * (c.peak_raw - b))
+    flags |= kHotPixel;
+  if (flags & kSaturated) return flags;
   // Hot pixel: nearly all the light of the 3x3 around the peak in the peak itself.
   const cv::Rect r3 = cv::Rect(c.peak.x - 1, c.peak.y - 1, 3, 3) & frame;
   double s3 = 0;
   for (int y = r3.y; y < r3.y + r3.height; ++y)
     for (int x = r3.x; x < r3.x + r3.width; ++x) s3 += std::max(pix<T>(grey, x, y) - b, 0.0);
-  if (s3 > 0 && (c.peak_raw - b) / s3 > opts.hot_pixel_fraction && !(flags & kSaturated))
-    flags |= kHotPixel;
+  if (s3 > 0 && (c.peak_raw - b) / s3 > opts.hot_pixel_fraction) flags |= kHotPixel;
   return flags;
 }
 
@@ -85,12 +157,51 @@ bool centroidBlob(const cv::Mat& grey, const Blob& c, const Moments& mom, double
   return measure(main, cog, patch, star, nullptr);
 }
 
-// Brightest first, ties in candidate order. An insertion sort: stable without
-// std::stable_sort's temporary buffer (an allocation per frame), and about linear here since
-// the candidates came sorted by a flux estimate already.
+// [px] The widest PSF sigma a star of this frame may have: twice the median moment sigma of
+// the most significant unclipped blobs (the moments of a star above the threshold understate
+// its sigma), plus half a pixel; opts.max_psf_sigma_px when fewer than 5 tell. Clutter
+// (lamps, edges, glows) is wider or clipped, and rarely the majority of the most significant.
+template <typename T>
+double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, double sat) {
+  const BackgroundModel& bg = s.background;
+  const std::vector<Blob>& blobs = s.labeller.blobs();
+  thread_local std::vector<double> sig;
+  sig.clear();
+  for (std::size_t i = 0; i < s.candidates.size() && i < 30; ++i) {
+    const Blob& c = blobs[static_cast<std::size_t>(s.candidates[i].blob)];
+    if (c.area < 3 || c.peak_raw >= sat) continue;
+    const double b = bg.levelAt(c.peak.x, c.peak.y);
+    Moments mom;
+    int n_top = 0;
+    s.labeller.forEachPixel(grey, c, [&](int x, int y, double v) {
+      mom.add(x, y, v - b);
+      n_top += v >= c.peak_raw;
+    });
+    double elong = 1, psf = 0;
+    mom.shape(elong, psf);
+    if (n_top < 2 && elong <= opts.max_elongation && psf > 0) sig.push_back(psf);
+  }
+  if (sig.size() < 5) return opts.max_psf_sigma_px;
+  const auto mid = sig.begin() + static_cast<std::ptrdiff_t>(sig.size() / 2);
+  std::nth_element(sig.begin(), mid, sig.end());
+  return std::min(opts.max_psf_sigma_px, 2 * *mid + 0.5);
+}
+
+// Brightest first, ties in candidate order; when most stars are round, the elongated ones
+// after all round ones (a trail, a branch's lit edge, a glow's rim: their flux says little
+// about a star's magnitude, and the brightest few form the patterns of lost-in-space). In a
+// slew most are streaks and the order is by flux alone. An insertion sort: stable without
+// std::stable_sort's temporary buffer (an allocation per frame).
 void sortBrightestFirst(std::vector<Centroid>& stars) {
+  std::size_t elongated = 0;
+  for (const Centroid& c : stars) elongated += (c.flags & kElongated) != 0;
+  const bool demote = 2 * elongated < stars.size();
+  const auto before = [demote](const Centroid& a, const Centroid& b) {
+    const bool ea = demote && (a.flags & kElongated), eb = demote && (b.flags & kElongated);
+    return ea != eb ? eb : a.flux > b.flux;
+  };
   for (std::size_t i = 1; i < stars.size(); ++i)
-    for (std::size_t j = i; j > 0 && stars[j].flux > stars[j - 1].flux; --j)
+    for (std::size_t j = i; j > 0 && before(stars[j], stars[j - 1]); --j)
       std::swap(stars[j], stars[j - 1]);
 }
 
@@ -99,25 +210,55 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
                   const Centroider& cog, Scratch& s, DetectionResult& res) {
   const BackgroundModel& bg = s.background;
   const BlobLabeller& lab = s.labeller;
-  const double sat = saturationLevel(grey, opts);
+  const double sat = saturationLevel(grey, opts, bg.step);
   const std::vector<Blob>& blobs = lab.blobs();
   rankCandidates(opts, s, res);
   const std::vector<Candidate>& cands = s.candidates;
+  const double psf_lim = psfLimit<T>(grey, opts, s, sat);
+  double top = 0;  // the frame's highest value above the threshold: the clip, if any clipped
+  for (const Blob& c : blobs) top = std::max(top, c.peak_raw);
+  top = std::min(top, sat);
   const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
   res.stars.reserve(static_cast<std::size_t>(std::min<std::size_t>(
       static_cast<std::size_t>(opts.max_stars), cands.size())));
   for (const Candidate& cand : cands) {
     if (static_cast<int>(res.stars.size()) >= opts.max_stars) break;
     const Blob& c = blobs[static_cast<std::size_t>(cand.blob)];
-    const double b = bg.levelAt(c.peak.x, c.peak.y), sb = bg.sigmaAt(c.peak.x, c.peak.y);
+    double b = bg.levelAt(c.peak.x, c.peak.y);
+    const double sb = bg.sigmaAt(c.peak.x, c.peak.y);
+    if (bg.gradient) {
+      // A structured background: a star must stand out of its own surroundings, a ring a
+      // PSF's reach outside its blob.
+      const int m = static_cast<int>(std::ceil(2.5 * opts.psfSigmaGuess())) + 1;
+      const cv::Rect ring = cv::Rect(c.x0 - m, c.y0 - m, c.x1 - c.x0 + 1 + 2 * m,
+                                     c.y1 - c.y0 + 1 + 2 * m) & cv::Rect(0, 0, grey.cols, grey.rows);
+      b = borderLevel<T>(grey, ring, s.ring);
+      if (c.peak_raw - b < opts.threshold_sigma * sb) {
+        ++res.rejected;
+        continue;
+      }
+    }
     Moments mom;
     double psf = 0;
-    const uint32_t flags = blobFlags<T>(grey, c, lab, b, sat, opts, mom, psf);
+    bool flat_top = false;
+    uint32_t flags =
+        blobFlags<T>(grey, c, lab, b, sb, sat, top, opts, psf_lim, mom, psf, flat_top);
     Centroid star;
     if ((flags & opts.reject_flags) ||
         !centroidBlob<T>(grey, c, mom, b, sb, sat, psf, opts, main, cog, s, star)) {
       ++res.rejected;
       continue;
+    }
+    // Light spread far beyond a PSF around a low peak (a foreground's edge, a glow's rim): the
+    // fitted flux over the peak is 2 pi sigma^2 for a star of PSF sigma. A clipped top lowers
+    // the peak of a bright star: those are judged by their shape alone.
+    if (!(flags & kSaturated) && !flat_top && star.peak > 0 &&
+        star.flux > 2 * M_PI * psf_lim * psf_lim * star.peak) {
+      flags |= kExtended;
+      if (flags & opts.reject_flags) {
+        ++res.rejected;
+        continue;
+      }
     }
     star.area = c.area;
     star.flags = flags;
@@ -145,10 +286,10 @@ void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroi
   res.reason.clear();
   res.background = res.noise_sigma = 0;
   res.blobs_found = res.rejected = res.duplicates = 0;
-  const double sat = saturationLevel(grey, opts);
   estimateBackground(grey, opts.background_tile_px, opts.background_samples,
                      opts.read_noise_adu, s.background);
   const BackgroundModel& bg = s.background;
+  const double sat = saturationLevel(grey, opts, bg.step);
   res.background = bg.level;
   res.noise_sigma = bg.sigma;
   if (bg.level >= sat) {
@@ -159,7 +300,11 @@ void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroi
   // Threshold at k sigma above the (tiled) background (seed 004 §4.1), blobs 8-connected.
   BlobLabeller& lab = s.labeller;
   const double k = opts.threshold_sigma;
-  if (opts.prefilter == "none") {
+  // A gradient (or an edge) that even the finer tiles of a graded background step across:
+  // the threshold follows the interpolated level pixel by pixel; else it is constant per tile
+  // (a sparse compare: vignetting and mild sky glow stay on the fast path).
+  const bool follow = bg.gradient && hasGradient(bg, kMaxTileChangeSigma);
+  if (opts.prefilter == "none" && !follow) {
     // Sparse: only the pixels above the threshold are ever visited after the compare.
     std::vector<double>& thr = s.thresholds;
     if (bg.tile > 0) {
@@ -173,7 +318,9 @@ void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroi
     // The pre-filters count candidates in 5x5 neighbourhoods: they need the mask.
     cv::Mat& mask = s.mask;
     mask.create(grey.size(), CV_8U);
-    if (bg.tile > 0) {
+    if (follow) {
+      thresholdMask(grey, bg, k, s.threshold_map, mask);
+    } else if (bg.tile > 0) {
       for (int ty = 0; ty < bg.tiles_y; ++ty)
         for (int tx = 0; tx < bg.tiles_x; ++tx) {
           const cv::Rect r(tx * bg.tile, ty * bg.tile,

@@ -21,7 +21,7 @@ namespace st::detect_detail {
 
 struct Candidate {
   int blob;
-  double sum;
+  double sum;  ///< the ranking measure (larger first)
 };
 
 /// A detector's buffers, reused frame after frame: no allocation once they have grown to the
@@ -35,7 +35,8 @@ struct Scratch {
   std::vector<float> ring;   ///< border ring of the current search window
   cv::Mat converted;        ///< grey conversion of a colour input (never the caller's pixels)
   cv::Mat dark_subtracted;  ///< input minus the dark frame
-  cv::Mat mask;             ///< candidate pixels for the pre-filters
+  cv::Mat mask;             ///< candidate pixels for the pre-filters or a gradient
+  cv::Mat threshold_map;    ///< per-pixel threshold of a background with a gradient
 };
 
 /// `grey`: a one-channel 8/16-bit view of the input, or of its conversion into `converted`
@@ -44,9 +45,13 @@ struct Scratch {
 /// frame of the same size).
 bool greyView(const cv::Mat& in, cv::Mat& converted, cv::Mat& grey, std::string& reason);
 
-inline double saturationLevel(const cv::Mat& grey, const DetectorOptions& opts) {
+/// The saturation level: the option, else the largest value of the type that is a whole
+/// number of quantisation steps `step` (12 bits in a 16-bit word clip at 65520, not 65535; an
+/// 8-bit frame x256 at 65280).
+inline double saturationLevel(const cv::Mat& grey, const DetectorOptions& opts, int step = 1) {
   if (opts.saturation_adu > 0) return opts.saturation_adu;
-  return grey.depth() == CV_8U ? 255.0 : 65535.0;
+  const int top = grey.depth() == CV_8U ? 255 : 65535;
+  return step > 1 ? top - top % step : top;
 }
 
 template <typename T>
@@ -69,6 +74,8 @@ struct Moments {
   }
   Mat2 central() const;
   void shape(double& elongation, double& sigma) const;
+  /// The smaller eigenvalue of the central moments [px^2] (0 without light).
+  double minorVariance() const;
 };
 
 /// Largest of n pixel values (vectorised).

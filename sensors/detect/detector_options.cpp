@@ -41,6 +41,8 @@ bool DetectorOptions::isValid(std::string* error) const {
     bad("min_separation_px", min_separation_px, "must be >= 0");
   else if (!(max_elongation >= 1))
     bad("max_elongation", max_elongation, "must be >= 1");
+  else if (!(max_psf_sigma_px > 0))
+    bad("max_psf_sigma_px", max_psf_sigma_px, "must be > 0");
   else if (!(hot_pixel_fraction > 0 && hot_pixel_fraction <= 1))
     bad("hot_pixel_fraction", hot_pixel_fraction, "must be in (0, 1]");
   else if (!Centroider::create(centroider, &cerr))

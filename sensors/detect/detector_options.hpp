@@ -47,9 +47,15 @@ struct DetectorOptions {
   /// >= 0.5 px puts at most 47% of its 3x3 light in one pixel; noise in the neighbours pulls a
   /// real hot pixel's ratio down to ~0.7 at 5 sigma.
   double hot_pixel_fraction = 0.7;
+  /// [px] kExtended above this sigma of a blob's light across its narrow axis (the smaller
+  /// eigenvalue of its second moments, less what a saturated core explains): a star, in
+  /// focus or a streak, is one PSF wide; a lit foreground, the skyline's edge, a glow, a
+  /// cloud's rim are wider. Stars up to a PSF sigma of about this pass (the window of the
+  /// centroiders stops at 5 px).
+  double max_psf_sigma_px = 4.0;
   /// Flags that remove a star instead of only marking it. Elongated is off by default since
   /// stars are streaks by design during slews.
-  uint32_t reject_flags = kHotPixel | kTouchesEdge;
+  uint32_t reject_flags = kHotPixel | kTouchesEdge | kExtended;
 
   // --- centroiding ---
   std::string centroider = "gauss";  ///< "cog", "iwc" or "gauss" (see centroider.hpp)

@@ -62,6 +62,15 @@ void Moments::shape(double& elongation, double& sigma) const {
   sigma = std::sqrt(std::max(tr - 1.0 / 12.0, 0.0));
 }
 
+double Moments::minorVariance() const {
+  if (sw <= 0) return 0;
+  const Mat2 m = central();
+  const double tr = 0.5 * (m(0, 0) + m(1, 1));
+  const double dd = std::sqrt(std::max(0.0, 0.25 * (m(0, 0) - m(1, 1)) * (m(0, 0) - m(1, 1)) +
+                                                 m(0, 1) * m(0, 1)));
+  return std::max(tr - dd, 0.0);
+}
+
 // Largest of n pixel values: a plain max reduction, vectorised (unsigned integer max needs
 // SSE4.1 or AVX2, hence the clones); the search windows of fast-moving stars are ~1000 pixels.
 #if defined(__GNUC__) && defined(__x86_64__)

@@ -35,8 +35,11 @@ const SectionSchema<DetectorOptions>& detectorSchema() {
           .add("detect_max_elongation", &D::max_elongation, "above: flagged elongated")
           .add("detect_hot_pixel_fraction", &D::hot_pixel_fraction,
                "peak / 3x3 flux above: hot pixel")
+          .add("detect_max_psf_sigma_px", &D::max_psf_sigma_px,
+               "[px] wider across its narrow axis: flagged extended (foreground, glow)")
           .add("detect_reject_flags", &D::reject_flags,
-               "flags that remove a star: sum of 1 saturated, 2 edge, 4 elongated, 8 hot pixel")
+               "flags that remove a star: sum of 1 saturated, 2 edge, 4 elongated, 8 hot pixel, "
+               "16 extended")
           .add("centroider", &D::centroider, "cog | iwc | gauss")
           .add("psf_sigma_px", &D::psf_sigma_px, "[px] PSF sigma; 0 = estimate per star")
           .add("detect_window_margin_px", &D::window_margin_px, "[px] around a blob's box")

@@ -215,6 +215,16 @@ TEST(RobustLevelSigma, ScalesWithTheQuantisationStep) {
     robustLevelSigma(w, l16, s16);
     EXPECT_NEAR(l16, 16 * l1, 1e-9);
     EXPECT_NEAR(s16, 16 * s1, 1e-9);
+    // An 8-bit frame written as 16 bits by a converter: x256, or x257 (255 -> 65535), with
+    // an offset. The step is the common divisor of the differences, not only a power of two.
+    for (const double k : {256.0, 257.0, 3.0}) {
+      std::vector<float> u;
+      for (float x : v) u.push_back(static_cast<float>(k * x + 5 * k));
+      double lk, sk;
+      robustLevelSigma(u, lk, sk);
+      EXPECT_NEAR(lk, k * (l1 + 5), 1e-6 * k) << k;
+      EXPECT_NEAR(sk, k * s1, 1e-6 * k) << k;
+    }
   }
 }
 
