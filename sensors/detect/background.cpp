@@ -302,29 +302,46 @@ void thresholdMask(const cv::Mat& grey, const BackgroundModel& m, double k, cv::
   // levelAt + k sigmaAt row by row: per row, the value at each tile column's centre, then
   // linear along the row between (and beyond) them.
   thread_local std::vector<double> lv, sv;
+  thread_local std::vector<int> col_i0;
+  thread_local std::vector<float> col_a, col_as;
   lv.resize(static_cast<std::size_t>(m.tiles_x));
   sv.resize(lv.size());
   map.create(1, grey.cols, CV_32F);
   mask.create(grey.size(), CV_8U);
   const int last = std::max(m.tiles_x - 2, 0);
+  // Where each column sits between tile centres does not depend on the row: once per call
+  // (the per-pixel floor and clamps were most of the detector's time on a graded frame).
+  col_i0.resize(static_cast<std::size_t>(grey.cols));
+  col_a.resize(col_i0.size());
+  col_as.resize(col_i0.size());
+  for (int x = 0; x < grey.cols; ++x) {
+    const double fx = (x + 0.5) / m.tile - 0.5;
+    const int i0 = std::clamp(static_cast<int>(std::floor(fx)), 0, last);
+    const double a = m.tiles_x < 2 ? 0.0 : fx - i0;
+    col_i0[static_cast<std::size_t>(x)] = i0;
+    col_as[static_cast<std::size_t>(x)] = static_cast<float>(std::clamp(a, 0.0, 1.0));  // sigma held beyond the outer centres
+    col_a[static_cast<std::size_t>(x)] = m.gradient ? static_cast<float>(a) : col_as[static_cast<std::size_t>(x)];
+  }
+  thread_local std::vector<float> l0, dl, s0, ds;
+  l0.resize(lv.size()), dl.resize(lv.size()), s0.resize(lv.size()), ds.resize(lv.size());
   for (int y = 0; y < grey.rows; ++y) {
     for (int i = 0; i < m.tiles_x; ++i) {
       const double cx = (i + 0.5) * m.tile - 0.5;  // the centre column: exact there
       lv[static_cast<std::size_t>(i)] = m.levelAt(cx, y);
       sv[static_cast<std::size_t>(i)] = m.sigmaAt(cx, y);
     }
+    for (int i = 0; i < m.tiles_x; ++i) {
+      const std::size_t i0 = static_cast<std::size_t>(i), i1 = static_cast<std::size_t>(std::min(i + 1, m.tiles_x - 1));
+      l0[i0] = static_cast<float>(lv[i0]);
+      dl[i0] = static_cast<float>(lv[i1] - lv[i0]);
+      s0[i0] = static_cast<float>(k * sv[i0]);
+      ds[i0] = static_cast<float>(k * (sv[i1] - sv[i0]));
+    }
     float* row = map.ptr<float>(0);
     for (int x = 0; x < grey.cols; ++x) {
-      const double fx = (x + 0.5) / m.tile - 0.5;
-      const int i0 = std::clamp(static_cast<int>(std::floor(fx)), 0, last);
-      const int i1 = std::min(i0 + 1, m.tiles_x - 1);
-      const double a = m.tiles_x < 2 ? 0.0 : fx - i0;
-      const double as = std::clamp(a, 0.0, 1.0);  // sigma held beyond the outer centres
-      const double l = lv[static_cast<std::size_t>(i0)] +
-                       (m.gradient ? a : as) * (lv[static_cast<std::size_t>(i1)] - lv[static_cast<std::size_t>(i0)]);
-      const double s = sv[static_cast<std::size_t>(i0)] +
-                       as * (sv[static_cast<std::size_t>(i1)] - sv[static_cast<std::size_t>(i0)]);
-      row[x] = static_cast<float>(l + k * s);
+      const std::size_t i0 = static_cast<std::size_t>(col_i0[static_cast<std::size_t>(x)]);
+      row[x] = l0[i0] + col_a[static_cast<std::size_t>(x)] * dl[i0] + s0[i0] +
+               col_as[static_cast<std::size_t>(x)] * ds[i0];
     }
     uint8_t* out = mask.ptr<uint8_t>(y);
     if (grey.depth() == CV_8U) {

@@ -64,7 +64,7 @@ Solution solveImage(const cv::Mat& img, double hfov_deg) {
   s.detected = det.stars.size();
   if (det.stars.size() < 3) return s;
   const CameraModel cam = CameraModel::fromFov(img.cols, img.rows, deg2rad(hfov_deg));
-  const FovSearchResult r = identifyAndFit(det.stars, cam, db, *id, 0.01, true, 0.5);
+  const FovSearchResult r = identifyAndFit(det.stars, cam, db, *id, CameraFitPolicy::approximateFov(0.01), 0.1);
   s.solved = r.result.solved();
   s.q_ic = r.result.q_ic;
   s.matches = r.result.matches.size();
@@ -474,7 +474,7 @@ TEST(SolveClutter, DISABLED_Dump) {
           if ((t.px - c.px).norm() < 2) { real.push_back(c); break; }
       const CameraModel cam = CameraModel::fromFov(kW, kH, deg2rad(kHfovDeg));
       auto id = StarIdentifier::create("pyramid");
-      const FovSearchResult r = identifyAndFit(real, cam, databaseFor(kHfovDeg, kW, kH), *id, 0.01, true, 0.5);
+      const FovSearchResult r = identifyAndFit(real, cam, databaseFor(kHfovDeg, kW, kH), *id, CameraFitPolicy::approximateFov(0.01), 0.1);
       std::printf("  only the %zu real: %s\n", real.size(), r.result.solved() ? "solved" : r.result.reason.c_str());
     }
     for (std::size_t i = 0; i < std::min<std::size_t>(d.stars.size(), 14); ++i) {
