@@ -18,7 +18,9 @@ set(ST_DATA_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/startracker)
 set(ST_EXPORTED_LIBS st_api st_fusion st_sensors_tracking st_sensors_identify st_sensors_detect
     st_sensors_attitude st_sensors_camera st_catalog st_config st_common)
 
-install(TARGETS startracker RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+# `startracker` is the launcher (--version at once); every command runs startracker-cli
+# from the same folder.
+install(TARGETS startracker startracker-cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
 install(TARGETS startracker_mrpt startracker_sim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         COMPONENT runtime)
 install(FILES ${ST_ROOT}/catalog/data/hip_main_v6.6.dat.gz ${ST_ROOT}/catalog/data/bsc5

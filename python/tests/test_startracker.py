@@ -19,7 +19,7 @@ FOV = 11.4  # horizontal FOV of the tetra3 sample camera [deg]
 
 
 def cli_solve(path):
-    out = subprocess.run([EXE, "solve", "--fov-deg", str(FOV), "--json", str(path)],
+    out = subprocess.run([EXE, "solve", "--no-cache", "--fov-deg", str(FOV), "--json", str(path)],
                          capture_output=True, text=True, check=False)
     return json.loads(out.stdout)
 
@@ -39,11 +39,13 @@ def test_numpy_solve_equals_the_command_line(path):
     assert r["solved"], r
     assert list(r.keys()) == list(cli.keys())
     assert r["stars_matched"] == cli["stars_matched"] >= 10
-    # One deterministic computation on identical input: only rounding of the JSON printout
-    # (17 significant digits) separates the two.
-    for k in ("ra_deg", "dec_deg", "roll_deg", "rms_residual_arcsec"):
-        assert r[k] == pytest.approx(cli[k], abs=1e-9), k
-    assert np.allclose(r["covariance"], cli["covariance"], rtol=1e-9, atol=0)
+    # The CLI builds its in-memory database at the epoch rounded to 0.001 yr (solve_run.cpp,
+    # for its cache), the module at the epoch given: stars move by < 0.15" (aberration +
+    # proper motion in 0.001 yr), the attitude by much less; 1e-6 deg = 3.6 mas.
+    for k in ("ra_deg", "dec_deg", "roll_deg"):
+        assert r[k] == pytest.approx(cli[k], abs=1e-6), k
+    assert r["rms_residual_arcsec"] == pytest.approx(cli["rms_residual_arcsec"], abs=1e-3)
+    assert np.allclose(r["covariance"], cli["covariance"], rtol=1e-3, atol=0)
     assert [s["id"] for s in r["stars"]] == [s["id"] for s in cli["stars"]]
     assert r["image"] == "<array>"
 

