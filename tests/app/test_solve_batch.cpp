@@ -26,14 +26,6 @@ std::vector<nlohmann::json> jsonLines(const std::string& out) {
   return lines;
 }
 
-std::vector<std::string> tetra3Frames() {
-  std::vector<std::string> f;
-  for (const auto& e : fs::directory_iterator(test::tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") f.push_back(e.path().string());
-  std::sort(f.begin(), f.end());
-  return f;
-}
-
 /// A cache folder of the test's own, so no run sees another's files.
 std::string cacheEnv(const std::string& dir) { return "XDG_CACHE_HOME='" + dir + "' "; }
 
@@ -51,7 +43,7 @@ TEST(SolveBatch, FolderGivesOneJsonLinePerFrameInOrderAndTheSingleFramesAttitude
                               "", cacheEnv(cache));
   ASSERT_EQ(r.code, 0) << r.err;
   const auto lines = jsonLines(r.out);
-  const auto frames = tetra3Frames();
+  const auto frames = test::tetra3Frames();
   ASSERT_EQ(lines.size(), frames.size()) << r.out;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     ASSERT_FALSE(lines[i].is_discarded()) << i;
@@ -70,7 +62,7 @@ TEST(SolveBatch, FolderGivesOneJsonLinePerFrameInOrderAndTheSingleFramesAttitude
 
 TEST(SolveBatch, ExitCodeIsTheWorstFramesAndEveryFrameGetsItsLine) {
   const std::string dir = test::makeTempDir("batch_mixed");
-  const auto frames = tetra3Frames();
+  const auto frames = test::tetra3Frames();
   fs::copy_file(frames[0], dir + "/a.tiff");
   cv::imwrite(dir + "/b_black.png", cv::Mat::zeros(64, 64, CV_8UC1));  // solves nothing: 1
   const std::string cache = test::makeTempDir("batch_cache");

@@ -26,14 +26,6 @@ std::string writeCamera(const std::string& dir, double rel_error) {
   return path;
 }
 
-std::vector<std::string> frames() {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(test::tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 class CameraHeal : public ::testing::TestWithParam<double> {};
 
 TEST_P(CameraHeal, EveryFrameSolvesNearTheExactCameraAndTheErrorIsNamed) {
@@ -45,7 +37,7 @@ TEST_P(CameraHeal, EveryFrameSolvesNearTheExactCameraAndTheErrorIsNamed) {
                                  " 2>&1"),
             0);
   const std::string exact = writeCamera(dir, 0), off = writeCamera(dir, err);
-  const auto files = frames();
+  const auto files = test::tetra3Frames();
   ASSERT_EQ(files.size(), 8u);
   for (const std::string& f : files) {
     SCOPED_TRACE(f);

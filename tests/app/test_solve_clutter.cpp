@@ -302,14 +302,6 @@ TEST(SolveClutter, SimulatedFramesWithClutterSolveWithNoWrongAttitude) {
 
 // ---- the eight real frames --------------------------------------------------------------
 
-std::vector<std::string> tetra3Frames() {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(test::tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 constexpr double kTetra3HfovDeg = 11.4;
 
 /// Clutter on a real 16-bit frame, in ADU: the frame's own background is the "sky"; added
@@ -360,7 +352,7 @@ int notYetReal(Clutter c) {
 }
 
 TEST(SolveClutter, RealFramesWithDrawnClutterSolveWithNoWrongAttitude) {
-  const auto files = tetra3Frames();
+  const auto files = test::tetra3Frames();
   ASSERT_EQ(files.size(), 8u);
   const Clutter kinds[] = {Clutter::DarkForeground, Clutter::LitForeground,
                            Clutter::LinearGradient, Clutter::RadialGradient, Clutter::Trail,
@@ -392,7 +384,7 @@ TEST(SolveClutter, RealFramesWithDrawnClutterSolveWithNoWrongAttitude) {
 // shot noise weighs 256x less against the background in the copies), within the 8-bit
 // frame's own error against the full 12-bit frame.
 TEST(SolveClutter, SixteenBitCopiesOfAnEightBitFrameSolveAsTheEightBitFrame) {
-  for (const std::string& file : tetra3Frames()) {
+  for (const std::string& file : test::tetra3Frames()) {
     SCOPED_TRACE(file);
     const cv::Mat img = cv::imread(file, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
     cv::Mat g8, x256, x257;

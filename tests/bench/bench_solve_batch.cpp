@@ -21,14 +21,6 @@
 namespace st {
 namespace {
 
-std::vector<std::string> tetra3Frames() {
-  std::vector<std::string> f;
-  for (const auto& e : std::filesystem::directory_iterator(test::tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") f.push_back(e.path().string());
-  std::sort(f.begin(), f.end());
-  return f;
-}
-
 /// A cache folder of the benchmark's own.
 void useOwnCache() {
   static const std::string dir = test::makeTempDir("bench_cache");
@@ -38,7 +30,7 @@ void useOwnCache() {
 void BM_BatchSolveTiffFrame(benchmark::State& state) {
   log::setVerbosity(log::Verbosity::kQuiet);
   useOwnCache();
-  const auto frames = tetra3Frames();
+  const auto frames = test::tetra3Frames();
   app::SolveOptions o;
   o.camera.fov_deg = 11.4;
   app::SolveSources src(o);

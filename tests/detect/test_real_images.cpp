@@ -12,14 +12,6 @@
 namespace st {
 namespace {
 
-std::vector<std::string> tetra3Frames() {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(test::tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 double closestPair(const std::vector<Centroid>& s) {
   double best = 1e30;
   for (std::size_t i = 0; i < s.size(); ++i)
@@ -28,7 +20,7 @@ double closestPair(const std::vector<Centroid>& s) {
 }
 
 TEST(RealImages, EachTetra3FrameGivesTwentyDistinctStars) {
-  const auto frames = tetra3Frames();
+  const auto frames = test::tetra3Frames();
   ASSERT_EQ(frames.size(), 8u) << test::tetra3ImageDir();
   for (const std::string& path : frames) {
     const cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
@@ -54,7 +46,7 @@ TEST(RealImages, EachTetra3FrameGivesTwentyDistinctStars) {
 
 // The same frame as 8 bits (scaled) gives the bright stars at the same places.
 TEST(RealImages, EightBitCopyAgrees) {
-  const cv::Mat img16 = cv::imread(tetra3Frames().front(), cv::IMREAD_UNCHANGED);
+  const cv::Mat img16 = cv::imread(test::tetra3Frames().front(), cv::IMREAD_UNCHANGED);
   double lo, hi;
   cv::minMaxLoc(img16, &lo, &hi);
   cv::Mat img8;

@@ -32,16 +32,8 @@ const StarDatabase& realFrameDatabase(double max_pair_angle) {
   return db;
 }
 
-std::vector<std::string> frames() {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(test::tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(RealFrames, AllEightSolvedFromTheImageAlone) {
-  const auto files = frames();
+  const auto files = test::tetra3Frames();
   ASSERT_EQ(files.size(), 8u) << test::tetra3ImageDir();
   const double min_hfov = deg2rad(5.0), max_hfov = deg2rad(30.0), scale_tol = 0.02;
   const auto grid = fovSearchGrid(min_hfov, max_hfov, scale_tol);

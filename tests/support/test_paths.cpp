@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "tests/support/test_paths.hpp"
 
 #include <sys/wait.h>
@@ -20,6 +21,14 @@ std::string sharedDataDir() {
 std::string hipparcosSubsetPath() { return repoDir() + "/catalog/data/hip_main_v6.6.dat.gz"; }
 
 std::string tetra3ImageDir() { return repoDir() + "/tests/data/tetra3"; }
+
+std::vector<std::string> tetra3Frames() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(tetra3ImageDir()))
+    if (e.path().extension() == ".tiff") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 std::string bsc5Path() { return repoDir() + "/catalog/data/bsc5"; }
 

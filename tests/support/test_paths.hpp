@@ -2,6 +2,7 @@
 /// Where tests find data: the repository, the shared real data, the startracker binary.
 #pragma once
 #include <string>
+#include <vector>
 
 namespace st::test {
 
@@ -14,6 +15,8 @@ std::string sharedDataDir();
 std::string hipparcosSubsetPath();
 /// The eight real tetra3 frames (committed in tests/data/tetra3).
 std::string tetra3ImageDir();
+/// The eight real tetra3 frames (.tiff), sorted by name.
+std::vector<std::string> tetra3Frames();
 /// The Yale Bright Star Catalogue binary (committed in catalog/data).
 std::string bsc5Path();
 /// A fresh empty temporary directory for one test (removed by the OS, not by the test).
