@@ -10,6 +10,7 @@
 #include "app/solve/frame_input.hpp"
 #include "app/solve/solve_epoch.hpp"
 #include "app/solve/solve_options.hpp"
+#include "app/solve/identify_frame.hpp"
 #include "app/solve/solve_output.hpp"
 #include "include/startracker/startracker.hpp"
 #include "sensors/attitude/wahba.hpp"
@@ -116,31 +117,9 @@ SolveResult run(app::FrameInput&& in, const SolveOptions& api_o, const Database*
     rep.failure = "too few stars detected (" + std::to_string(in.stars.size()) + ")" +
                   (in.detection_reason.empty() ? "" : ": " + in.detection_reason);
   } else {
-    IdentifyOptions io;
-    io.solver = o.solver;
-    io.max_stars = o.max_stars;
-    std::string err;
-    auto identifier = StarIdentifier::create(o.algorithm, io, &err);
-    if (!identifier) throw InputError("algorithm: " + err);
-    if (!WahbaSolver::create(o.solver, &err)) throw InputError("solver: " + err);
-    const double sigma_floor =
-        o.min_sigma_px >= 0 ? o.min_sigma_px : 0.1;
-    SearchLimits limits;
-    if (hint) limits.refuse = refuseOutsideHint(*hint);
-    if (o.cpulimit_s > 0)
-      limits.deadline = t_start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(o.cpulimit_s));
-    const StarDatabase& sdb = chosen.stars();
-    const CentroidSearch search = [&](const std::vector<Centroid>& stars) {
-      if (plan.fixed)
-        return identifyAndFit(stars, *plan.fixed, sdb, *identifier,
-                              plan.fit_focal ? CameraFitPolicy::approximateFov(0.01)
-                                             : CameraFitPolicy::cameraFile(*plan.fixed),
-                              sigma_floor, limits);
-      return identifyUnknownFov(stars, in.width, in.height, sdb, *identifier, plan.grid,
-                                plan.scale_tol, sigma_floor, limits);
-    };
-    rep.ps = solveBothParities(in.stars, in.width, parityChoice(o.parity), limits, search);
+    rep.ps = app::identifyFrame(o, in.stars, in.width, in.height, chosen.stars(),
+                                {plan.fixed, plan.fit_focal, plan.grid, plan.scale_tol}, hint,
+                                parityChoice(o.parity), t_start, "");
   }
   rep.ms.identify = msSince(t0);
   rep.ms.total = msSince(t_start);

@@ -12,6 +12,7 @@
 #include "app/output_file.hpp"
 #include "app/solve/camera_report.hpp"
 #include "app/solve/frame_input.hpp"
+#include "app/solve/identify_frame.hpp"
 #include "app/solve/solve_epoch.hpp"
 #include "app/solve/solve_options.hpp"
 #include "app/solve/solve_output.hpp"
@@ -116,32 +117,9 @@ DatabaseChoice database(const SolveOptions& o, const FrameInput& in, const Camer
 
 PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const StarDatabase& db,
                           const CameraSearch& cs, Clock::time_point t_start) {
-  IdentifyOptions io;
-  io.solver = o.solver;
-  io.max_stars = o.max_stars;
-  std::string err;
-  auto identifier = StarIdentifier::create(o.algorithm, io, &err);
-  if (!identifier) throw InputError("--algorithm: " + err);
-  if (!WahbaSolver::create(o.solver, &err)) throw InputError("--solver: " + err);
-  const double sigma_floor =
-      o.min_sigma_px >= 0 ? o.min_sigma_px : 0.1;
-  SearchLimits limits;
-  if (const auto hint = o.positionHint()) limits.refuse = refuseOutsideHint(*hint);
-  if (o.cpulimit_s > 0)
-    limits.deadline = t_start + std::chrono::duration_cast<Clock::duration>(
-                                    std::chrono::duration<double>(o.cpulimit_s));
-  const CentroidSearch search = [&](const std::vector<Centroid>& stars) {
-    // An approximate FOV (no camera file) gets 1 % slack and a focal + distortion fit; a
-    // camera file is used as it is and healed when that fails.
-    if (cs.fixed)
-      return identifyAndFit(stars, *cs.fixed, db, *identifier,
-                            cs.fit_focal ? CameraFitPolicy::approximateFov(0.01)
-                                         : CameraFitPolicy::cameraFile(*cs.fixed),
-                            sigma_floor, limits);
-    return identifyUnknownFov(stars, in.width, in.height, db, *identifier, cs.grid, cs.scale_tol,
-                              sigma_floor, limits);
-  };
-  return solveBothParities(in.stars, in.width, o.parityChoice(), limits, search);
+  return identifyFrame(o, in.stars, in.width, in.height, db,
+                       {cs.fixed, cs.fit_focal, cs.grid, cs.scale_tol}, o.positionHint(),
+                       o.parityChoice(), t_start, "--");
 }
 
 }  // namespace
