@@ -200,6 +200,8 @@ class LiveSession {
     std::printf("observations: %zu delivered, %zu recorded, %zd lost\n", delivered,
                 recorder_.written(), static_cast<std::ptrdiff_t>(delivered - recorder_.written()));
     recorder_.printTrackerSummary(stdout);
+    for (const CStarTrackerSensor* t : trackers_)
+      if (const std::string c = t->cameraReport(); !c.empty()) std::printf("%s\n", c.c_str());
     if (!nav_) return;
     const auto s = nav_->stats();
     std::printf("filter: %d fixes (%d accepted, %d rejected, %d ignored while waiting for "

@@ -20,7 +20,13 @@ RecursiveIdentifier::RecursiveIdentifier(const StarDatabase& db, const CameraMod
       camera_(camera),
       opts_(std::move(o)),
       detector_(opts_.detect),
-      half_diagonal_fov_(camera.halfDiagonalFov()) {}
+      half_diagonal_fov_(camera.halfDiagonalFov()),
+      sigma_c_px_(opts_.centroid_sigma_px) {}
+
+void RecursiveIdentifier::cameraChanged(double model_error_px) {
+  half_diagonal_fov_ = camera_.halfDiagonalFov();
+  sigma_c_px_ = std::hypot(opts_.centroid_sigma_px, model_error_px);
+}
 
 void RecursiveIdentifier::predictCandidates(const CameraPrediction& pred) {
   const Mat3 R_ic = pred.q_ic.toRotationMatrix();
@@ -67,7 +73,7 @@ void RecursiveIdentifier::placeWindows(const CameraPrediction& pred) {
   // The brightest stars (cone order = brightest first) away from the border and from blends.
   windows_.clear();
   windowed_.clear();
-  const double sigma_c2 = opts_.centroid_sigma_px * opts_.centroid_sigma_px;
+  const double sigma_c2 = sigma_c_px_ * sigma_c_px_;
   for (Candidate& c : candidates_) {
     if (int(windows_.size()) >= opts_.max_stars) break;
     if (!camera_.isPixelInImage(c.px, opts_.edge_margin_px)) continue;
@@ -88,7 +94,7 @@ void RecursiveIdentifier::placeWindows(const CameraPrediction& pred) {
 void RecursiveIdentifier::gate(RecursiveIdResult& out) {
   // Seed 002 step 5: |d| < 3 sqrt(2) sigma, as a Mahalanobis gate.
   const double gate2 = opts_.gate_sigma * opts_.gate_sigma;
-  const double sigma_c2 = opts_.centroid_sigma_px * opts_.centroid_sigma_px;
+  const double sigma_c2 = sigma_c_px_ * sigma_c_px_;
   std::vector<double>& d2s = gated_d2_;
   d2s.clear();
   for (std::size_t k = 0; k < found_.size(); ++k) {

@@ -70,6 +70,10 @@ class RecursiveIdentifier {
 
   const RecursiveIdOptions& options() const { return opts_; }
 
+  /// The camera it references was changed (refined online) and the camera-model error term
+  /// [px] in force, added in quadrature to the centroid sigma of the windows and the gate.
+  void cameraChanged(double model_error_px);
+
  private:
   struct Candidate {
     uint32_t star_index;
@@ -88,6 +92,7 @@ class RecursiveIdentifier {
   RecursiveIdOptions opts_;
   StarDetector detector_;  // built once: the windows are centroided without validation
   double half_diagonal_fov_;
+  double sigma_c_px_;  // centroid_sigma_px (+) the camera-model error term
   std::vector<uint32_t> cone_;
   std::vector<Candidate> candidates_;
   std::vector<PredictedStar> windows_;

@@ -91,6 +91,24 @@ const SectionSchema<IdentifyOptions>& identifySchema() {
   return s;
 }
 
+const SectionSchema<OnlineCameraOptions>& onlineCameraSchema() {
+  using O = OnlineCameraOptions;
+  static const auto s =
+      SectionSchema<O>()
+          .add("cam_online", &O::enabled,
+               "refine the camera online from verified frames (focal, principal point, k1)")
+          .add("cam_online_frames", &O::frames_per_fit, "verified frames per online camera fit")
+          .add("cam_forgetting", &O::forgetting,
+               "information kept from one online camera fit to the next, (0, 1]")
+          .add("cam_prior_focal_rel", &O::prior_focal_rel,
+               "1-sigma relative focal length of the camera file")
+          .add("cam_prior_pp_px", &O::prior_pp_px, "[px] 1-sigma principal point of the file")
+          .add("cam_prior_k1", &O::prior_k1, "1-sigma k1 of the camera file")
+          .add("cam_max_model_error_px", &O::max_model_error_px,
+               "[px] largest camera-model error term carried");
+  return s;
+}
+
 }  // namespace
 
 const SectionSchema<TrackerOptions>& trackerIniSchema() {
@@ -103,6 +121,9 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .renamed("min_sigma_px", "lis_min_sigma_px")
           .include(identifySchema(), &T::identify)
           .include(detectorSchema(), &T::detect)
+          .add("cam_heal_range", &T::camera_heal_range,
+               "lost-in-space heals a camera file within +-this relative focal length (0: off)")
+          .include(onlineCameraSchema(), &T::online_camera)
           .add("track_solver", &T::solver, "Wahba solver while tracking")
           .renamed("solver", "track_solver lis_solver")  // it set both
           .add("track_min_sigma_px", &T::tracking_min_sigma_px,

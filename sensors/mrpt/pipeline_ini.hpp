@@ -11,6 +11,8 @@
 ///   verify_   verification of a hypothesis, LIS and recursive (VerifyOptions)
 ///   track_    tracking: windows, gates, loss tests (TrackerOptions)
 ///   f2f_      frame-to-frame prediction when nothing is given (TrackerOptions)
+///   cam_      the camera model: lost-in-space healing of the file, online refinement and
+///             the camera-model error term (TrackerOptions, OnlineCameraOptions)
 /// Unprefixed: the camera's noise model and PSF shared by every stage (gain_e_per_adu,
 /// read_noise_adu, psf_sigma_px, centroider), exposure_s and sensor_label.
 /// The old names (gate_sigma, solver, max_stars, ...) are refused naming their new name.

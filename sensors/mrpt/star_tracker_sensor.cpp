@@ -246,7 +246,27 @@ void CStarTrackerSensor::doProcess() {
   if (!out.empty()) appendObservations(out);
 }
 
-void CStarTrackerSensor::processFrame(const mrpt::obs::CObservation& image_obs,
+void CStarTrackerSensor::updateCameraReport() {
+  const auto& fit = tracker_->cameraFit();
+  if (!fit) return;
+  const std::string name = camera_file_.empty() ? "the configured camera" : camera_file_;
+  std::string d = describeDiscrepancy(*fit, camera_, name);
+  char b[160];
+  std::snprintf(b, sizeof b, "camera: fx %.2f +- %.2f px, k1 %.4f +- %.4f, model error %.3f px",
+                fit->theta[kFx], fit->sigma(kFx), fit->theta[kK1], fit->sigma(kK1),
+                tracker_->modelErrorPx());
+  std::string report = b;
+  if (!d.empty()) report += "; " + d + "; run `startracker calibrate` on frames of this camera";
+  std::lock_guard<std::mutex> lock(mutex_);
+  camera_report_ = std::move(report);
+}
+
+std::string CStarTrackerSensor::cameraReport() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return camera_report_;
+}
+
+void CStarTrackerSensor::processFrame(mrpt::obs::CObservationImage& image_obs,
                                       const cv::Mat& image,
                                       std::vector<mrpt::serialization::CSerializable::Ptr>& out) {
   const mrpt::Clock::time_point t = image_obs.timestamp;
@@ -261,7 +281,11 @@ void CStarTrackerSensor::processFrame(const mrpt::obs::CObservation& image_obs,
   // As the navigator counts time (replay's tracker gets its seconds): the same frames then
   // give the same numbers live and in replay.
   const double t_s = mrpt::system::timeDifference(*first_frame_, t);
+  // The frame is recorded with the camera it was processed with (replay starts from the
+  // first frame's and refines as this run did).
+  image_obs.cameraParams = tracker_->camera().toTCamera();
   const FrameResult frame = tracker_->process(image, t_s, inputs);
+  if (frame.camera_updated) updateCameraReport();
   auto obs = observationFromFrame(frame, t, m_sensorLabel, opts_.sensor_pose);
   ++frames_;
   if (obs->hasAttitude()) ++solved_;

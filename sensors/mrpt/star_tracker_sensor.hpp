@@ -40,6 +40,7 @@
 #pragma once
 #include <mrpt/core/Clock.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
+#include <mrpt/obs/CObservationImage.h>
 
 #include <atomic>
 #include <functional>
@@ -83,7 +84,13 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   CObservationStarTracker::Ptr lastObservation() const;
   cv::Mat lastImage() const;
 
-  /// Available after initialize().
+  /// One line on the camera model in force (thread-safe): the tracker's last online or healing
+  /// fit against the camera file (its discrepancy, `startracker calibrate` advice) and the
+  /// camera-model error term; "" before any fit.
+  std::string cameraReport() const;
+
+  /// Available after initialize(): the configured camera (the file's). The model in force,
+  /// refined online, is recorded with every emitted frame (CObservationImage::cameraParams).
   const CameraModel& camera() const { return camera_; }
   const StarDatabase* database() const { return db_.get(); }
   /// The tracker's effective options (the source's exposure and noise filled in).
@@ -106,8 +113,9 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
                                  const std::string& section) override;
 
  private:
-  void processFrame(const mrpt::obs::CObservation& image_obs, const cv::Mat& image,
+  void processFrame(mrpt::obs::CObservationImage& image_obs, const cv::Mat& image,
                     std::vector<mrpt::serialization::CSerializable::Ptr>& out);
+  void updateCameraReport();
 
   // configuration
   std::string section_;
@@ -138,6 +146,7 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   InputsProvider provider_;
   CObservationStarTracker::Ptr last_obs_;
   cv::Mat last_image_;
+  std::string camera_report_;
   std::atomic<int> frames_{0}, solved_{0}, tracking_{0};
 };
 

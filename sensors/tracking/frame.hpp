@@ -105,6 +105,10 @@ struct FrameResult {
   std::vector<MatchedStar> stars;
   int num_blobs = 0;          ///< blobs (or windows with a centroid) found in the image
   StageTimings timings;
+  /// The camera model changed with this frame (healed by lost-in-space or refined online):
+  /// StarTracker::camera() and cameraFit() tell how.
+  bool camera_updated = false;
+  double model_error_px = 0;  ///< [px] camera-model error term in force for this frame
 
   bool hasAttitude() const { return mode != StarTrackerMode::kFailed; }
 };

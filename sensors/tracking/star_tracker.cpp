@@ -10,6 +10,7 @@
 #include "sensors/camera/jacobians.hpp"
 #include "sensors/detect/star_detector.hpp"
 #include "sensors/detect/streaks.hpp"
+#include "sensors/identify/fov_search.hpp"
 #include "sensors/identify/star_observation.hpp"
 
 namespace st {
@@ -48,6 +49,10 @@ FramePredictorOptions predictorOptions(const TrackerOptions& o) {
   return {o.frame_to_frame, o.max_propagation_s, o.accel_sigma, o.gyro_sigma, o.exposure_s};
 }
 
+/// [px] a centroid's own 1-sigma per axis (its covariance's mean variance), without the
+/// model-error term: the online camera fit estimates that term from these.
+double centroidSigmaPx(const Centroid& c) { return std::sqrt(std::max(0.0, 0.5 * c.cov_px.trace())); }
+
 FrameFailure failureOf(IdentifyStatus s) {
   switch (s) {
     case IdentifyStatus::TooFewStars:
@@ -75,7 +80,8 @@ StarTracker::StarTracker(const StarDatabase& db, const CameraModel& camera,
       recursive_(db_, camera_, recursiveIdOptions(opts_)),
       predictor_(predictorOptions(opts_)),
       loss_threshold_(opts_.loss_probability, 2 * opts_.max_tracked_stars - 3),
-      consistency_threshold_(chiSquareQuantile(1.0 - opts_.consistency_probability, 3.0)) {}
+      consistency_threshold_(chiSquareQuantile(1.0 - opts_.consistency_probability, 3.0)),
+      online_(camera, opts_.online_camera) {}
 
 StarTracker::~StarTracker() = default;
 
@@ -83,6 +89,20 @@ void StarTracker::reset() {
   predictor_.reset();
   failed_frames_ = 0;
   lost_ = true;
+}
+
+void StarTracker::useCamera(const CameraModel& camera, double model_error_px) {
+  camera_ = camera;  // recursive_ holds a reference to camera_
+  model_error_px_ = model_error_px;
+  recursive_.cameraChanged(model_error_px);
+}
+
+void StarTracker::learnCamera(const Quat& q_ic, FrameStars stars, FrameResult& out) {
+  stars.q_ic = q_ic;
+  if (auto up = online_.addVerifiedFrame(camera_, std::move(stars))) {
+    useCamera(up->fit.camera, up->model_error_px);
+    out.camera_updated = true;
+  }
 }
 
 void StarTracker::setAttitude(FrameResult& out, const CameraFix& fix) const {
@@ -121,6 +141,26 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
       out.mode = StarTrackerMode::kTracking;
       failed_frames_ = 0;
       predictor_.addTrackingFix(fix);
+    } else if (source == PredictionSource::kRateMatch &&
+               (out.failure == FrameFailure::kTooFewInGate ||
+                out.failure == FrameFailure::kTooFewPredicted)) {
+      // Re-acquisition: nothing independent of our own last fixes predicted this frame, and
+      // its stars are not where they were going: the scene changed (an unrelated frame, a
+      // slew the rate match did not see). Waiting for more failures would only lose frames.
+      const std::string why = out.detail;
+      reset();
+      out = FrameResult{};
+      if (lostInSpace(image, rate_cam, out, fix)) {
+        predictor_.correctForAcceleration(rate_cam, fix);
+        setAttitude(out, fix);
+        out.mode = StarTrackerMode::kLostInSpace;
+        lost_ = false;
+        predictor_.addLostInSpaceFix(fix);
+      } else {
+        reset();
+      }
+      out.detail = why + "; lost-in-space at once" + (out.detail.empty() ? "" : ": " + out.detail);
+      out.fell_back_to_lost_in_space = true;
     } else if (++failed_frames_ >= opts_.max_failed_frames) {
       out.detail += "; " + std::to_string(failed_frames_) + " failed frames: back to lost-in-space";
       out.fell_back_to_lost_in_space = true;
@@ -139,6 +179,7 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
     reset();
   }
   predictor_.recordRate(t_s, rate_cam);
+  out.model_error_px = model_error_px_;
   out.timings.total = seconds(t0, Clock::now());
   return out;
 }
@@ -171,9 +212,17 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     out.detail = "lost-in-space: detection: " + det.reason;
     return false;
   }
-  const std::vector<StarObservation> obs =
-      toStarObservations(det.stars, camera_, opts_.min_sigma_px);
-  const IdentifyResult res = identifier_->identify(obs, db_, camera_);
+  // The camera file as it is (with the model-error term carried from earlier frames); when
+  // that fails, healed within +-camera_heal_range (identify/camera_refine.hpp).
+  CameraFitPolicy policy = CameraFitPolicy::fixed();
+  if (opts_.camera_heal_range > 0) {
+    policy = CameraFitPolicy::cameraFile(camera_);
+    policy.heal_range = opts_.camera_heal_range;
+  }
+  const double floor_px = std::hypot(opts_.min_sigma_px, model_error_px_);
+  FovSearchResult found = identifyAndFit(det.stars, camera_, db_, *identifier_, policy, floor_px);
+  const IdentifyResult& res = found.result;
+  const std::vector<StarObservation>& obs = found.obs;
   out.timings.identify = 1e-3 * res.timing.pattern_ms;
   out.timings.attitude = 1e-3 * res.timing.verify_ms;
   if (!res.solved()) {
@@ -182,7 +231,16 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
                  (res.reason.empty() ? "" : ": " + res.reason);
     return false;
   }
+  if (found.healed && found.camera_fit) {
+    // The file failed; the camera that solved is the one in force from now on.
+    online_.adopt(*found.camera_fit);
+    useCamera(found.camera, found.model_error_px);
+    out.camera_updated = true;
+    out.detail = "lost-in-space healed the camera: " +
+                 describeDiscrepancy(*found.camera_fit, online_.fileCamera(), "the camera file");
+  }
   const Mat3 R_ci = res.q_ic.toRotationMatrix().transpose();
+  FrameStars learnt;
   for (const StarMatch& m : res.matches) {
     const StarObservation& o = obs[m.obs_index];
     MatchedStar s;
@@ -191,7 +249,9 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     s.v_cam = o.v_cam;
     s.residual = angleBetween(o.v_cam, R_ci * db_.stars()[m.star_index].u_i);
     out.stars.push_back(s);
+    learnt.add(o.px, db_.stars()[m.star_index].u_i, centroidSigmaPx(det.stars[m.obs_index]));
   }
+  if (!found.healed) learnCamera(res.q_ic, std::move(learnt), out);
   fix.q_ic = canonical(res.q_ic);
   fix.cov_cam = res.cov_cam;
   return true;
@@ -229,8 +289,9 @@ bool StarTracker::track(const cv::Mat& image, const CameraPrediction& pred,
 std::optional<StarTracker::Failure> StarTracker::solveTracked(const CameraPrediction& pred,
                                                               FrameResult& out,
                                                               CameraFix& fix) {
-  const double floor_px = opts_.tracking_min_sigma_px;
-  sobs_ = toStarObservations(rid_.stars, camera_, floor_px);
+  // Every centroid's covariance + the camera-model error term (in quadrature).
+  const double floor_px = std::hypot(opts_.tracking_min_sigma_px, model_error_px_);
+  sobs_ = toStarObservations(rid_.stars, camera_, opts_.tracking_min_sigma_px, model_error_px_);
   const std::size_t n = sobs_.size();
   vobs_.resize(n);
   pix_.resize(n);
@@ -296,6 +357,13 @@ std::optional<StarTracker::Failure> StarTracker::solveTracked(const CameraPredic
   }
   fix.q_ic = ref.q_ic;
   fix.cov_cam = ref.cov_cam;
+  if (opts_.online_camera.enabled) {
+    FrameStars learnt;
+    for (std::size_t k : keep_)
+      learnt.add(rid_.stars[k].px, db_.stars()[rid_.star_index[k]].u_i,
+                 std::hypot(centroidSigmaPx(rid_.stars[k]), opts_.tracking_min_sigma_px));
+    learnCamera(ref.q_ic, std::move(learnt), out);
+  }
   return std::nullopt;
 }
 

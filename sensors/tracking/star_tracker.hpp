@@ -18,6 +18,19 @@
 ///    After max_failed_frames consecutive failed tracking frames the tracker drops back to
 ///    lost-in-space by itself (and ignores predictions until lost-in-space succeeds again, so
 ///    a diverged filter cannot keep it failing).
+///  - re-acquisition: a frame-to-frame prediction (no filter, no gyro: nothing independent
+///    of the tracker's own last fixes) whose windows find too few stars is not retried on
+///    the next frames: the same frame goes to lost-in-space at once. With a filter's or a
+///    gyro's prediction a few failed frames are a transient (a blinded frame), so those wait
+///    for max_failed_frames.
+///
+/// The camera (issue 19): the camera file is a starting point, not the truth. Lost-in-space
+/// identifies with it as it is and, when that fails, heals it (focal length searched and
+/// refined within +-camera_heal_range, distortion fitted: identify/camera_refine.hpp); the
+/// verified frames refine it online (online_camera.hpp: focal length, principal point, k1,
+/// the file as the first prior), and the residuals give a camera-model error term [px] added
+/// to every centroid's sigma in the gates and the fixes' covariances. camera() is the model
+/// in force; the sensor records it with every frame.
 ///
 /// Frames: identification, windows and fixes work in the camera frame (q_ic, cov_cam);
 /// FrameInputs and FrameResult are in the body frame of TrackerOptions::R_body_cam.
@@ -41,6 +54,7 @@
 #include "sensors/identify/recursive_id.hpp"
 #include "sensors/tracking/frame.hpp"
 #include "sensors/tracking/frame_predictor.hpp"
+#include "sensors/tracking/online_camera.hpp"
 #include "sensors/tracking/tracker_options.hpp"
 
 namespace st {
@@ -62,7 +76,12 @@ class StarTracker {
   bool isLost() const { return lost_; }
   int consecutiveFailures() const { return failed_frames_; }
   const TrackerOptions& options() const { return opts_; }
+  /// The camera model in force (the file's, healed or refined online).
   const CameraModel& camera() const { return camera_; }
+  /// [px] the camera-model error term in force (0 until residuals show one).
+  double modelErrorPx() const { return model_error_px_; }
+  /// The last online or healing fit of the camera, with its uncertainties.
+  const std::optional<CameraFitResult>& cameraFit() const { return online_.lastFit(); }
 
  private:
   struct Failure {
@@ -80,6 +99,9 @@ class StarTracker {
   void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                         std::vector<Centroid>& stars);
   void setAttitude(FrameResult& out, const CameraFix& fix) const;
+  /// A verified frame's stars into the online camera fit; adopts its result.
+  void learnCamera(const Quat& q_ic, FrameStars stars, FrameResult& out);
+  void useCamera(const CameraModel& camera, double model_error_px);
 
   const StarDatabase& db_;
   CameraModel camera_;
@@ -95,6 +117,8 @@ class StarTracker {
   double consistency_threshold_ = 0;    // chi2(3)
   int failed_frames_ = 0;
   bool lost_ = true;
+  OnlineCamera online_;
+  double model_error_px_ = 0;
 
   // Scratch buffers kept between frames.
   RecursiveIdResult rid_;

@@ -36,6 +36,16 @@ const char* badNumber(const TrackerOptions& o, const char** why) {
       {o.gyro_sigma >= 0, "gyro_sigma", "must be >= 0"},
       {o.min_sigma_px > 0, "min_sigma_px", "must be > 0"},
       {o.tracking_min_sigma_px > 0, "tracking_min_sigma_px", "must be > 0"},
+      {o.camera_heal_range >= 0 && o.camera_heal_range <= 0.2, "cam_heal_range",
+       "must be in [0, 0.2] (a camera file more than 20 % off is not a camera file)"},
+      {o.online_camera.frames_per_fit >= 1, "cam_online_frames", "must be >= 1"},
+      {o.online_camera.forgetting > 0 && o.online_camera.forgetting <= 1,
+       "cam_forgetting", "must be in (0, 1]"},
+      {o.online_camera.prior_focal_rel > 0, "cam_prior_focal_rel", "must be > 0"},
+      {o.online_camera.prior_pp_px > 0, "cam_prior_pp_px", "must be > 0"},
+      {o.online_camera.prior_k1 > 0, "cam_prior_k1", "must be > 0"},
+      {o.online_camera.max_model_error_px >= 0, "cam_max_model_error_px",
+       "must be >= 0"},
   };
   for (const Rule& r : rules) {
     if (!r.ok) {

@@ -6,6 +6,7 @@
 #include "common/attitude.hpp"
 #include "sensors/detect/detector_options.hpp"
 #include "sensors/identify/identifier.hpp"
+#include "sensors/tracking/online_camera.hpp"
 
 namespace st {
 
@@ -28,6 +29,13 @@ struct TrackerOptions {
   /// 20,000 e- full well (14.7 % of a sigma = 1 px PSF in the peak pixel). A floor above the
   /// bound (0.02 px before) makes the tracking fixes of bright stars ~3x pessimistic.
   double tracking_min_sigma_px = 0.001;
+
+  // --- the camera model (issue 19) ---
+  /// Lost-in-space heals a camera file that fails as it is: focal lengths within +-this
+  /// (relative) are searched and refined with the distortion (0: the file is taken as exact).
+  double camera_heal_range = 0.05;
+  /// Online refinement from verified frames and the camera-model error term.
+  OnlineCameraOptions online_camera;
 
   // --- tracking ---
   std::string solver = "quest";   ///< Wahba solver while tracking

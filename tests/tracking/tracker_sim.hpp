@@ -74,11 +74,14 @@ inline TrackerOptions simTrackerOptions() {
 /// Renders noisy frames of the database's stars for a motion profile.
 class FrameSimulator {
  public:
-  explicit FrameSimulator(uint64_t seed)
-      : source_(simDatabase()),
+  /// `camera` is the true camera the frames are rendered through (a tracker may be given
+  /// another: an imperfect camera file).
+  explicit FrameSimulator(uint64_t seed, const CameraModel& camera = simCamera())
+      : camera_(camera),
+        source_(simDatabase()),
         sensor_(simSensor()),
-        renderer_(simCamera(), sensor_, source_),
-        detector_(sensor_, simCamera().width(), simCamera().height()),
+        renderer_(camera_, sensor_, source_),
+        detector_(sensor_, camera_.width(), camera_.height()),
         rng_(seed) {}
 
   struct Frame {
@@ -114,6 +117,7 @@ class FrameSimulator {
   const SensorParams& sensor() const { return sensor_; }
 
  private:
+  CameraModel camera_;
   DatabaseStarSource source_;
   SensorParams sensor_;
   StarRenderer renderer_;
