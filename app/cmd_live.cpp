@@ -163,8 +163,10 @@ class LiveSession {
         if (display_.quitRequested()) return "the window (q)";
       }
       int alive = 0;
-      for (auto& r : runners_) alive += r->state() != SensorRunner::State::kFailed;
-      if (alive == 0) return "all sensors stopped";
+      for (auto& r : runners_)
+        alive += r->state() != SensorRunner::State::kFailed &&
+                 r->state() != SensorRunner::State::kFinished;
+      if (alive == 0) return "all sensors stopped or finished";
     }
   }
 
@@ -191,7 +193,9 @@ class LiveSession {
     recorder_.printRawlogSummary(out_path_.string(), stdout);
     std::size_t delivered = 0;
     for (auto& r : runners_) {
-      const char* st = r->state() == SensorRunner::State::kFailed ? "FAILED" : "ok";
+      const char* st = r->state() == SensorRunner::State::kFailed     ? "FAILED"
+                       : r->state() == SensorRunner::State::kFinished ? "finished"
+                                                                       : "ok";
       std::printf("sensor '%s' %s: %zu observations, %s\n", r->section().c_str(),
                   r->driver().c_str(), r->observations(), st);
       delivered += r->observations();

@@ -1,5 +1,7 @@
 #include "app/live/sensor_runner.hpp"
 
+#include "sensors/mrpt/star_tracker_sensor.hpp"
+
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/obs/CObservation.h>
@@ -179,6 +181,12 @@ void SensorRunner::loop() {
       if (!obs.empty()) {
         count_ += obs.size();
         queue_.push(std::move(obs));
+      }
+      if (const auto* t = dynamic_cast<const CStarTrackerSensor*>(spec_.sensor.get());
+          t && t->sourceFinished()) {
+        state_ = State::kFinished;
+        queue_.report(who + " finished: its source has no more frames");
+        return;
       }
     } catch (const std::exception& e) {
       state_ = State::kFailed;

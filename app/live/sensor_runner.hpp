@@ -54,7 +54,9 @@ std::vector<SensorSpec> createSensors(const mrpt::config::CConfigFileBase& cfg,
 
 class SensorRunner {
  public:
-  enum class State { kStarting, kRunning, kFailed, kStopped };
+  /// kFinished: the sensor's source has no more data (a star tracker's folder of frames or
+  /// simulated scenario ended); not a failure.
+  enum class State { kStarting, kRunning, kFailed, kStopped, kFinished };
 
   SensorRunner(SensorSpec spec, ObservationQueue& queue);
   ~SensorRunner();  // stops and joins

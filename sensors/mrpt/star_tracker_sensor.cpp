@@ -194,6 +194,7 @@ void CStarTrackerSensor::initialize() {
 }
 
 bool CStarTrackerSensor::sourceFinished() const {
+  if (camera_finished_) return true;
   const auto* src = dynamic_cast<const StarImageSource*>(source_.get());
   return src && src->finished();
 }
@@ -214,8 +215,17 @@ cv::Mat CStarTrackerSensor::lastImage() const {
 }
 
 void CStarTrackerSensor::doProcess() {
-  if (!source_ || !tracker_) return;
-  source_->doProcess();
+  if (!source_ || !tracker_ || camera_finished_) return;
+  try {
+    source_->doProcess();
+  } catch (const std::exception& e) {
+    // MRPT's image_dir grabber throws at the end of its folder (end_index): the end of the
+    // frames, not a failure of the camera.
+    if (source_kind_ != "camera" || std::string(e.what()).find("Reached end index") == std::string::npos)
+      throw;
+    camera_finished_ = true;
+    return;
+  }
   TListObservations in;
   source_->getObservations(in);
   std::vector<mrpt::serialization::CSerializable::Ptr> out;
@@ -251,10 +261,11 @@ void CStarTrackerSensor::updateCameraReport() {
   if (!fit) return;
   const std::string name = camera_file_.empty() ? "the configured camera" : camera_file_;
   std::string d = describeDiscrepancy(*fit, camera_, name);
-  char b[160];
-  std::snprintf(b, sizeof b, "camera: fx %.2f +- %.2f px, k1 %.4f +- %.4f, model error %.3f px",
-                fit->theta[kFx], fit->sigma(kFx), fit->theta[kK1], fit->sigma(kK1),
-                tracker_->modelErrorPx());
+  char b[200];
+  int n = std::snprintf(b, sizeof b, "camera: fx %.2f +- %.2f px", fit->theta[kFx], fit->sigma(kFx));
+  if (fit->sigma(kK1) > 0)
+    n += std::snprintf(b + n, sizeof b - n, ", k1 %.4f +- %.4f", fit->theta[kK1], fit->sigma(kK1));
+  std::snprintf(b + n, sizeof b - n, ", model error %.3f px", tracker_->modelErrorPx());
   std::string report = b;
   if (!d.empty()) report += "; " + d + "; run `startracker calibrate` on frames of this camera";
   std::lock_guard<std::mutex> lock(mutex_);

@@ -105,7 +105,8 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   };
   const DatabaseBuild& databaseBuild() const { return db_build_; }
   const std::string& imageLabel() const { return image_label_; }
-  /// True when the inner source has no more frames (a finished simulated scenario).
+  /// True when the inner source has no more frames (a finished simulated scenario, the end of
+  /// an image_dir grabber's folder).
   bool sourceFinished() const;
 
  protected:
@@ -134,6 +135,7 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
 
   // runtime
   std::unique_ptr<mrpt::hwdrivers::CGenericSensor> source_;
+  std::atomic<bool> camera_finished_{false};
   std::shared_ptr<const StarDatabase> db_;
   DatabaseBuild db_build_;
   CameraModel camera_;

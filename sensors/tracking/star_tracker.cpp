@@ -214,8 +214,10 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
   }
   // The camera file as it is (with the model-error term carried from earlier frames); when
   // that fails, healed within +-camera_heal_range (identify/camera_refine.hpp).
+  // Healing searches several focal lengths: worth it until the camera has verified a fix,
+  // not on every dark or blinded frame after that.
   CameraFitPolicy policy = CameraFitPolicy::fixed();
-  if (opts_.camera_heal_range > 0) {
+  if (opts_.camera_heal_range > 0 && !camera_verified_) {
     policy = CameraFitPolicy::cameraFile(camera_);
     policy.heal_range = opts_.camera_heal_range;
   }
@@ -239,6 +241,7 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     out.detail = "lost-in-space healed the camera: " +
                  describeDiscrepancy(*found.camera_fit, online_.fileCamera(), "the camera file");
   }
+  camera_verified_ = true;
   const Mat3 R_ci = res.q_ic.toRotationMatrix().transpose();
   FrameStars learnt;
   for (const StarMatch& m : res.matches) {

@@ -25,7 +25,8 @@
 ///    for max_failed_frames.
 ///
 /// The camera (issue 19): the camera file is a starting point, not the truth. Lost-in-space
-/// identifies with it as it is and, when that fails, heals it (focal length searched and
+/// identifies with it as it is and, when that fails before any fix has verified the camera,
+/// heals it (focal length searched and
 /// refined within +-camera_heal_range, distortion fitted: identify/camera_refine.hpp); the
 /// verified frames refine it online (online_camera.hpp: focal length, principal point, k1,
 /// the file as the first prior), and the residuals give a camera-model error term [px] added
@@ -119,6 +120,7 @@ class StarTracker {
   bool lost_ = true;
   OnlineCamera online_;
   double model_error_px_ = 0;
+  bool camera_verified_ = false;  // a fix verified with camera_: no more healing searches
 
   // Scratch buffers kept between frames.
   RecursiveIdResult rid_;
