@@ -96,13 +96,12 @@ const SectionSchema<OnlineCameraOptions>& onlineCameraSchema() {
   static const auto s =
       SectionSchema<O>()
           .add("cam_online", &O::enabled,
-               "refine the camera online from verified frames (focal, principal point, k1)")
+               "refine the camera online from verified frames (focal length, k1)")
           .add("cam_online_frames", &O::frames_per_fit, "verified frames per online camera fit")
           .add("cam_forgetting", &O::forgetting,
                "information kept from one online camera fit to the next, (0, 1]")
           .add("cam_prior_focal_rel", &O::prior_focal_rel,
                "1-sigma relative focal length of the camera file")
-          .add("cam_prior_pp_px", &O::prior_pp_px, "[px] 1-sigma principal point of the file")
           .add("cam_prior_k1", &O::prior_k1, "1-sigma k1 of the camera file")
           .add("cam_max_model_error_px", &O::max_model_error_px,
                "[px] largest camera-model error term carried");

@@ -16,8 +16,7 @@ double significantModelErrorPx(const CameraFitResult& fit, const std::vector<Fra
 OnlineCamera::OnlineCamera(const CameraModel& file_camera, OnlineCameraOptions options)
     : file_(file_camera),
       opts_(options),
-      prior_(CameraPrior::around(file_camera, options.prior_focal_rel, options.prior_pp_px,
-                                 options.prior_k1)) {
+      prior_(CameraPrior::around(file_camera, options.prior_focal_rel, 0, options.prior_k1)) {
   // k2 stays the file's: one term is what a few frames of a narrow field determine.
   prior_.information(kK2, kK2) = 0;
 }

@@ -1,8 +1,8 @@
 /// @file online_camera.hpp
 /// The star tracker's camera model refined online from its own verified fixes (issue 19):
 /// every verified frame's identified stars are gathered; every `frames_per_fit` of them the
-/// one camera-model fit (sensors/camera/camera_fit.hpp) estimates focal length, principal
-/// point and k1 with the previous posterior as its prior (a recursive information filter whose
+/// one camera-model fit (sensors/camera/camera_fit.hpp) estimates focal length and k1 (not
+/// the principal point: online_camera.cpp says why) with the previous posterior as its prior (a recursive information filter whose
 /// first prior is the camera file), and the stars' residuals give the camera-model error
 /// term: the pixel sigma, beyond centroid noise, that the model leaves unexplained. Both are
 /// carried to the next frames (identification gates and fix covariances).
@@ -21,8 +21,8 @@ struct OnlineCameraOptions {
   bool enabled = true;
   int frames_per_fit = 10;        ///< verified frames gathered per fit
   double forgetting = 0.95;       ///< information kept from one fit to the next
-  /// The camera file's 1-sigma: relative focal length, principal point [px], k1.
-  double prior_focal_rel = 0.02, prior_pp_px = 20, prior_k1 = 0.2;
+  /// The camera file's 1-sigma: relative focal length, k1.
+  double prior_focal_rel = 0.02, prior_k1 = 0.2;
   /// Largest camera-model error term [px] carried: beyond it the model, not its error bar,
   /// is wrong (a wrong match's scatter is larger).
   double max_model_error_px = 1.0;

@@ -42,7 +42,6 @@ const char* badNumber(const TrackerOptions& o, const char** why) {
       {o.online_camera.forgetting > 0 && o.online_camera.forgetting <= 1,
        "cam_forgetting", "must be in (0, 1]"},
       {o.online_camera.prior_focal_rel > 0, "cam_prior_focal_rel", "must be > 0"},
-      {o.online_camera.prior_pp_px > 0, "cam_prior_pp_px", "must be > 0"},
       {o.online_camera.prior_k1 > 0, "cam_prior_k1", "must be > 0"},
       {o.online_camera.max_model_error_px >= 0, "cam_max_model_error_px",
        "must be >= 0"},

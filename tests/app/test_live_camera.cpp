@@ -139,6 +139,23 @@ TEST_P(LiveCameraFolder, EveryRealFrameSolvedNearSolveAndTheCameraReported) {
   EXPECT_GE(images16, 8) << "the grabber path must keep 16-bit frames";
 }
 
+// The examples people copy (a USB camera, a video file, a folder, a camera beside an IMU
+// driver) pass the strict configuration check: every key known, every value valid.
+TEST(LiveCameraExamples, EveryExamplePassesTheStrictCheck) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(test::repoDir() + "/rawlogs")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("live_camera_", 0) != 0 || e.path().extension() != ".ini") continue;
+    ++n;
+    std::string out;
+    EXPECT_EQ(test::runCommand(test::startrackerExe() + " config " + e.path().string() + " 2>&1",
+                               &out),
+              0)
+        << name << ": " << out;
+  }
+  EXPECT_EQ(n, 4);
+}
+
 INSTANTIATE_TEST_SUITE_P(FocalErrors, LiveCameraFolder,
                          ::testing::Values(-0.02, -0.005, 0.0, 0.005, 0.02),
                          [](const auto& info) {

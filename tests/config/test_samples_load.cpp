@@ -8,6 +8,7 @@
 
 #include <filesystem>
 
+#include "common/conventions.hpp"
 #include "navigation/tracker_config.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 #include "sensors/sim/scenario.hpp"
@@ -67,10 +68,23 @@ TEST(SampleIni, EveryRawlogsIniLoadsThroughItsReaders) {
       if (driver == "CStarTrackerSensor") sensor = std::make_unique<CStarTrackerSensor>();
       if (driver == "CSimulatedGyro") sensor = std::make_unique<CSimulatedGyro>();
       if (driver == "CSimulatedStarCamera") sensor = std::make_unique<CSimulatedStarCamera>();
-      ASSERT_TRUE(sensor) << "no test for driver " << driver;
+      // An MRPT driver of the examples (an IMU beside the camera): MRPT's own loadConfig.
+      std::shared_ptr<mrpt::hwdrivers::CGenericSensor> mrpt_sensor;
+      if (!sensor) mrpt_sensor = mrpt::hwdrivers::CGenericSensor::createSensorPtr(driver);
+      mrpt::hwdrivers::CGenericSensor* any = sensor ? sensor.get() : mrpt_sensor.get();
+      ASSERT_TRUE(any) << "no such driver " << driver;
+      // The real-camera examples name the calibration the user writes (cam.yaml): load them
+      // where one exists.
+      const std::string cam = cfg.read_string(s, "camera_file", "", false);
+      std::string where = dir;
+      if (!cam.empty() && !fs::exists(dir + "/" + cam)) {
+        where = test::makeTempDir("sample_ini_camera");
+        fs::create_directories(fs::path(where + "/" + cam).parent_path());
+        CameraModel::fromFov(1024, 768, deg2rad(11.4)).saveYaml(where + "/" + cam);
+      }
       // CStarTrackerSensor hands its section to an inner CSimulatedStarCamera: the inner
       // camera must leave the tracker's own keys to the tracker.
-      inDirectory(dir, [&] { EXPECT_NO_THROW(sensor->loadConfig(cfg, s)); });
+      inDirectory(where, [&] { EXPECT_NO_THROW(any->loadConfig(cfg, s)); });
       ++sections;
     }
   }
