@@ -1,0 +1,241 @@
+#!/usr/bin/env bash
+# Mutation check of the papers' rules (issue 17): each mutant below removes or breaks one
+# rule in a scratch copy of the tree, rebuilds only the test executable that should notice,
+# runs the named tests and reports which one kills it (KILLED by X) or SURVIVED. A mutant that
+# does not compile counts as a failure of this script (it would prove nothing).
+#
+# Usage: scripts/mutants.sh [--check] [--md FILE] [NAME...]
+#   --check   only check that every mutant's sed expression still changes its file (no build;
+#             ctest `mutants_expressions_match` runs this so the table does not rot)
+#   --md FILE write the result table as Markdown (docs/mutants.md) with the date and commit
+#   NAME...   run only these mutants
+# Exit status: 0 when every mutant is killed (or, with --check, every expression matches).
+# Slow (a rebuild per mutant): not part of CI; run it with nice -n 10. The scratch copy lives
+# in build-mutants/ of the tree (MUTANTS_DIR overrides), under /work so ccache hits.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+CHECK=0
+MD=""
+ONLY=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --check) CHECK=1 ;;
+    --md) MD="$2"; shift ;;
+    -h|--help) sed -n 2,14p "$0"; exit 0 ;;
+    -*) echo "mutants.sh: unknown option '$1'" >&2; exit 2 ;;
+    *) ONLY+=("$1") ;;
+  esac
+  shift
+done
+
+# ---- the mutants: name | file | sed -E expression | test target | gtest filter | rule -----
+NAMES=() FILES=() EXPRS=() TARGETS=() FILTERS=() RULES=()
+mutant() {
+  NAMES+=("$1") FILES+=("$2") EXPRS+=("$3") TARGETS+=("$4") FILTERS+=("$5") RULES+=("$6")
+}
+ID=st_test_identify
+mutant voting-spike-rule sensors/identify/voting.cpp \
+  's/std::max\(2, \(n - 1\) - n_smax\)/2/@@s/if \(n_x > n_smax \|\| top.empty\(\)\)/if (top.empty())/' \
+  $ID 'IdentifyRules.Voting*' \
+  "seed 000: n_x > n_smax skips a spike reference; f1 must reach (n-1)-n_smax"
+mutant voting-unique-companion sensors/identify/voting.cpp \
+  's/if \(found == 1\) seeds/if (found >= 1) seeds/' \
+  $ID 'IdentifyRules.Voting*' \
+  "seed 000 eq. 15: companion named only when l1 appears once in its slice"
+mutant triangle-area-moment sensors/identify/triangle_match.cpp \
+  's/if \(std::abs\(fc.area - fo.area\) > tol\[0\] \|\|/if (false \&\&/' \
+  $ID 'IdentifyRules.Planar*:IdentifyRules.Spherical*' \
+  "seed 001: planar/spherical area and polar moment comparison (both)"
+mutant triangle-area-only sensors/identify/triangle_match.cpp \
+  's/std::abs\(fc.polar_moment - fo.polar_moment\) > tol\[1\]/false/' \
+  $ID 'IdentifyRules.Planar*:IdentifyRules.Spherical*' \
+  "seed 001: the polar moment left out (area alone)"
+mutant triangle-moment-only sensors/identify/triangle_match.cpp \
+  's/std::abs\(fc.area - fo.area\) > tol\[0\] \|\|/false ||/' \
+  $ID 'IdentifyRules.Planar*:IdentifyRules.Spherical*' \
+  "seed 001: the area left out (polar moment alone)"
+mutant liebe-vertex-angle sensors/identify/liebe.cpp \
+  's/ \|\| std::abs\(f->phi - phi\) > tphi\)/)/' \
+  $ID 'IdentifyRules.Liebe*' \
+  "seed 003: the angle at the star between its two neighbours"
+mutant liebe-image-rim sensors/identify/liebe.cpp \
+  's/if \(d2 > rim\) continue;/(void)rim;/' \
+  $ID 'IdentifyRules.Liebe*' \
+  "seed 003 Initial Estimate: skip a star whose 2nd neighbour is farther than the rim"
+mutant nvertex-baselines sensors/identify/nvertex.cpp \
+  's/!ctx.angleMatches\(j, k, b, c\) \|\|//@@s/!ctx.angleMatches\(j, l, b, d\) \|\|//@@s/!ctx.angleMatches\(k, l, c, d\)\)/false)/' \
+  $ID 'IdentifyRules.NVertex*' \
+  "seed 004 eq. 6.7: baselines BC, BD, CD between the assigned candidates (all three)"
+mutant nvertex-baseline-cd sensors/identify/nvertex.cpp \
+  's/!ctx.angleMatches\(k, l, c, d\)\)/false)/' \
+  $ID 'IdentifyRules.NVertex*' \
+  "seed 004 eq. 6.7: baseline CD alone"
+mutant pyramid-fourth-star sensors/identify/pyramid.cpp \
+  's/!ctx.angleMatches\(j, r, t\[1\], d\) \|\|//@@s/!ctx.angleMatches\(k, r, t\[2\], d\)\)/false)/' \
+  $ID 'IdentifyRules.Pyramid*' \
+  "Pyramid (seed 002 ref. 18): the 4th star's angles to the triangle's 2nd and 3rd stars"
+TR=st_test_tracking
+mutant recursive-gate sensors/identify/recursive_id.cpp \
+  's/if \(!\(d2 <= gate2\)\) continue;/(void)gate2;/' \
+  $TR 'RecursiveIdRules.*' \
+  "seed 002 step 5: the 3 sqrt(2) sigma gate (removed)"
+mutant recursive-gate-sqrt2 sensors/identify/recursive_id.cpp \
+  's/const double gate2 = opts_.gate_sigma \* opts_.gate_sigma;/const double gate2 = 2 * opts_.gate_sigma * opts_.gate_sigma;/' \
+  $TR 'RecursiveIdRules.*' \
+  "seed 002 step 5: the gate widened by sqrt(2) (3 sqrt(2) sigma counted twice)"
+mutant recursive-gate-no-attitude-cov sensors/identify/recursive_id.cpp \
+  's/const Mat2 S = windowed_\[k\]->cov_att_px \+ cen.cov_px/const Mat2 S = cen.cov_px/' \
+  $TR 'RecursiveIdRules.*' \
+  "seed 002 step 5: the attitude's share of the gate (H P H^T) left out"
+mutant drop-saturated sensors/identify/recursive_id.cpp \
+  's/if \(!opts_.drop_saturated\) return;/return;/' \
+  $TR 'RecursiveIdRules.*' \
+  "drop_saturated: saturated stars left out while min_stars others remain"
+mutant drop-saturated-min-stars sensors/identify/recursive_id.cpp \
+  's/if \(int\(unsaturated\) < opts_.min_stars \|\| /if (/' \
+  $TR 'RecursiveIdRules.*' \
+  "drop_saturated keeps saturated stars when fewer than min_stars others remain"
+DT=st_test_detect
+mutant dark-frame sensors/detect/star_detector.cpp \
+  's/cv::subtract\(grey, opts_.dark_frame, s.dark_subtracted\);/s.dark_subtracted = grey;/' \
+  $DT 'DetectRules.*' \
+  "dark-frame subtraction before detection"
+APP=startracker
+mutant mc-star-count-lt3 app/montecarlo/exp_star_count.cpp \
+  's/return x < 3; \}/return x <= 3; }/' \
+  "$APP st_test_app" 'MontecarloTables.*' \
+  "Monte Carlo star-count table: P(N<3)"
+mutant mc-star-count-lt4 app/montecarlo/exp_star_count.cpp \
+  's/return x < 4; \}/return x <= 4; }/' \
+  "$APP st_test_app" 'MontecarloTables.*' \
+  "Monte Carlo star-count table: P(N<4)"
+mutant mc-fov-selection-lt3 app/montecarlo/exp_fov_selection.cpp \
+  's/lt3 \+= v < 3;/lt3 += v <= 3;/' \
+  "$APP st_test_app" 'MontecarloTables.*' \
+  "Monte Carlo fov-selection table: P(N<3) (seed 002 eq. 14)"
+mutant mc-fov-selection-threshold app/montecarlo/exp_fov_selection.cpp \
+  's/if \(std::isnan\(need4\) \&\& P4 < kThreshold\)/if (std::isnan(need4) \&\& P4 <= 2 * kThreshold)/' \
+  "$APP st_test_app" 'MontecarloTables.*' \
+  "Monte Carlo fov-selection table: the smallest FOV with P(N<4) < 0.01"
+
+# A mutant's expression: sed -E substitutions separated by @@ (code holds ';').
+applySed() {  # expr file [-i]
+  local args=() p
+  while IFS= read -r p; do args+=(-e "$p"); done < <(printf '%s\n' "$1" | sed 's/@@/\n/g')
+  if [[ "${3:-}" == -i ]]; then sed -E -i "${args[@]}" "$2"; else sed -E "${args[@]}" "$2"; fi
+}
+
+selected() {
+  [[ ${#ONLY[@]} -eq 0 ]] && return 0
+  local n
+  for n in "${ONLY[@]}"; do [[ "$n" == "$1" ]] && return 0; done
+  return 1
+}
+
+# ---- --check: every expression still changes its file --------------------------------------
+if [[ $CHECK -eq 1 ]]; then
+  bad=0
+  for i in "${!NAMES[@]}"; do
+    selected "${NAMES[$i]}" || continue
+    f="$ROOT/${FILES[$i]}"
+    if [[ ! -f "$f" ]]; then
+      echo "${NAMES[$i]}: ${FILES[$i]} does not exist"; bad=1; continue
+    fi
+    if applySed "${EXPRS[$i]}" "$f" | cmp -s - "$f"; then
+      echo "${NAMES[$i]}: the expression no longer matches ${FILES[$i]}"; bad=1
+    else
+      # Every ;-separated substitution must match on its own (a partial mutant is another one).
+      while IFS= read -r p; do
+        if applySed "$p" "$f" | cmp -s - "$f"; then
+          echo "${NAMES[$i]}: part '$p' no longer matches ${FILES[$i]}"; bad=1
+        fi
+      done < <(printf '%s\n' "${EXPRS[$i]}" | sed 's/@@/\n/g')
+    fi
+  done
+  [[ $bad -eq 0 ]] && echo "all ${#NAMES[@]} mutant expressions match"
+  exit $bad
+fi
+
+# ---- the scratch copy ------------------------------------------------------------------------
+SCRATCH="${MUTANTS_DIR:-$ROOT/build-mutants}"
+SRC="$SCRATCH/src" BLD="$SCRATCH/build"
+mkdir -p "$SRC"
+echo "copying the tree to $SRC"
+(cd "$ROOT" && tar --exclude='./build*' --exclude='./.git' --exclude='./out' -cf - .) |
+  (cd "$SRC" && tar -xf -)
+cmake -S "$SRC" -B "$BLD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
+  -DST_SHARED_DATA_DIR="$ROOT/../shared/data" >/dev/null
+JOBS="${MUTANTS_JOBS:-2}"
+
+# The unmutated tests must pass, or a "kill" proves nothing.
+declare -A BASE_OK=()
+baseline() {  # target filter
+  local key="$1|$2"
+  [[ -n "${BASE_OK[$key]:-}" ]] && return 0
+  cmake --build "$BLD" -j"$JOBS" --target $1 >"$SCRATCH/build.log" 2>&1 ||
+    { echo "baseline build of $1 failed (see $SCRATCH/build.log)"; exit 1; }
+  local exe; exe="$(testExe $1)"
+  if ! (cd "$BLD/tests" && "$exe" --gtest_filter="$2" >"$SCRATCH/base.log" 2>&1); then
+    echo "the unmutated tests $2 fail (see $SCRATCH/base.log)"; exit 1
+  fi
+  BASE_OK[$key]=1
+}
+testExe() {  # the gtest executable among the targets
+  local t
+  for t in $1; do [[ $t == st_test_* ]] && { echo "$BLD/tests/$t"; return; }; done
+}
+
+ROWS=()
+survived=0
+for i in "${!NAMES[@]}"; do
+  name="${NAMES[$i]}"
+  selected "$name" || continue
+  file="${FILES[$i]}" targets="${TARGETS[$i]}" filter="${FILTERS[$i]}"
+  baseline "$targets" "$filter"
+  cp "$SRC/$file" "$SCRATCH/orig"
+  applySed "${EXPRS[$i]}" "$SRC/$file" -i
+  if cmp -s "$SRC/$file" "$SCRATCH/orig"; then
+    echo "$name: the expression does not match $file"; exit 1
+  fi
+  result=""
+  if ! cmake --build "$BLD" -j"$JOBS" --target $targets >"$SCRATCH/build.log" 2>&1; then
+    cp "$SCRATCH/orig" "$SRC/$file"
+    echo "$name: the mutant does not compile (see $SCRATCH/build.log)"; exit 1
+  fi
+  exe="$(testExe "$targets")"
+  (cd "$BLD/tests" && "$exe" --gtest_filter="$filter" >"$SCRATCH/$name.log" 2>&1) || true
+  killers="$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_./]*\) (.*/\1/p' "$SCRATCH/$name.log" | sort -u | paste -sd, -)"
+  cp "$SCRATCH/orig" "$SRC/$file"
+  if [[ -n "$killers" ]]; then
+    result="KILLED by ${killers//,/, }"
+  else
+    result="SURVIVED"
+    survived=$((survived + 1))
+  fi
+  printf '%-32s %s\n' "$name" "$result"
+  ROWS+=("| \`$name\` | ${RULES[$i]} | \`$file\` | $result |")
+done
+# Leave the scratch build unmutated (the next run starts from it).
+for t in $(printf '%s\n' "${TARGETS[@]}" | tr ' ' '\n' | sort -u); do
+  cmake --build "$BLD" -j"$JOBS" --target "$t" >"$SCRATCH/build.log" 2>&1 || true
+done
+
+if [[ -n "$MD" ]]; then
+  {
+    echo "# Mutants: does a test notice when a paper's rule is removed?"
+    echo
+    echo "Generated by \`scripts/mutants.sh --md docs/mutants.md\` on $(date -u +%Y-%m-%d) at commit"
+    echo "\`$(git -C "$ROOT" rev-parse --short HEAD)\`$(git -C "$ROOT" diff --quiet HEAD 2>/dev/null || echo ' (with uncommitted changes)')."
+    echo "Each mutant is a sed expression in the script applied to a scratch copy of the tree;"
+    echo "the test executable named there is rebuilt and the tests of the filter are run. A mutant"
+    echo "is killed when at least one of them fails."
+    echo
+    echo "| mutant | rule removed or broken | file | result |"
+    echo "|---|---|---|---|"
+    printf '%s\n' "${ROWS[@]}"
+    echo
+    echo "$survived of ${#ROWS[@]} mutants survived."
+  } >"$MD"
+  echo "wrote $MD"
+fi
+[[ $survived -eq 0 ]]
