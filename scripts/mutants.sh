@@ -74,6 +74,14 @@ mutant pyramid-fourth-star sensors/identify/pyramid.cpp \
   's/!ctx.angleMatches\(j, r, t\[1\], d\) \|\|//@@s/!ctx.angleMatches\(k, r, t\[2\], d\)\)/false)/' \
   $ID 'IdentifyRules.Pyramid*' \
   "Pyramid (seed 002 ref. 18): the 4th star's angles to the triangle's 2nd and 3rd stars"
+mutant handedness-shared sensors/identify/identifier.cpp \
+  's/return \(so > 0\) == \(sc > 0\);/return true;/' \
+  $ID 'IdentifyRules.Mirrored*' \
+  "mirror images rejected by the triple product (pyramid, planar, spherical, nvertex)"
+mutant handedness-liebe sensors/identify/liebe.cpp \
+  's/if \(\(so > 0\) != \(sc > 0\)\) continue;/(void)so, (void)sc;/' \
+  $ID 'IdentifyRules.Mirrored*' \
+  "seed 003: Liebe's feature orientation (mirror images rejected)"
 TR=st_test_tracking
 mutant recursive-gate sensors/identify/recursive_id.cpp \
   's/if \(!\(d2 <= gate2\)\) continue;/(void)gate2;/' \
