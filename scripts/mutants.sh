@@ -165,8 +165,10 @@ if [[ $CHECK -eq 1 ]]; then
 fi
 
 # ---- the scratch copy ------------------------------------------------------------------------
+# The copy keeps the tree's layout (sources at the top, build/ inside) so that ccache, with
+# base_dir=/work, sees the same relative paths as in the tree's own build and hits.
 SCRATCH="${MUTANTS_DIR:-$ROOT/build-mutants}"
-SRC="$SCRATCH/src" BLD="$SCRATCH/build"
+SRC="$SCRATCH" BLD="$SCRATCH/build"
 mkdir -p "$SRC"
 echo "copying the tree to $SRC"
 (cd "$ROOT" && tar --exclude='./build*' --exclude='./.git' --exclude='./out' -cf - .) |
@@ -180,11 +182,11 @@ declare -A BASE_OK=()
 baseline() {  # target filter
   local key="$1|$2"
   [[ -n "${BASE_OK[$key]:-}" ]] && return 0
-  cmake --build "$BLD" -j"$JOBS" --target $1 >"$SCRATCH/build.log" 2>&1 ||
-    { echo "baseline build of $1 failed (see $SCRATCH/build.log)"; exit 1; }
+  cmake --build "$BLD" -j"$JOBS" --target $1 >"$BLD/mutant-build.log" 2>&1 ||
+    { echo "baseline build of $1 failed (see $BLD/mutant-build.log)"; exit 1; }
   local exe; exe="$(testExe $1)"
-  if ! (cd "$BLD/tests" && "$exe" --gtest_filter="$2" >"$SCRATCH/base.log" 2>&1); then
-    echo "the unmutated tests $2 fail (see $SCRATCH/base.log)"; exit 1
+  if ! (cd "$BLD/tests" && "$exe" --gtest_filter="$2" >"$BLD/mutant-base.log" 2>&1); then
+    echo "the unmutated tests $2 fail (see $BLD/mutant-base.log)"; exit 1
   fi
   BASE_OK[$key]=1
 }
@@ -200,20 +202,20 @@ for i in "${!NAMES[@]}"; do
   selected "$name" || continue
   file="${FILES[$i]}" targets="${TARGETS[$i]}" filter="${FILTERS[$i]}"
   baseline "$targets" "$filter"
-  cp "$SRC/$file" "$SCRATCH/orig"
+  cp "$SRC/$file" "$BLD/mutant.orig"
   applySed "${EXPRS[$i]}" "$SRC/$file" -i
-  if cmp -s "$SRC/$file" "$SCRATCH/orig"; then
+  if cmp -s "$SRC/$file" "$BLD/mutant.orig"; then
     echo "$name: the expression does not match $file"; exit 1
   fi
   result=""
-  if ! cmake --build "$BLD" -j"$JOBS" --target $targets >"$SCRATCH/build.log" 2>&1; then
-    cp "$SCRATCH/orig" "$SRC/$file"
-    echo "$name: the mutant does not compile (see $SCRATCH/build.log)"; exit 1
+  if ! cmake --build "$BLD" -j"$JOBS" --target $targets >"$BLD/mutant-build.log" 2>&1; then
+    cp "$BLD/mutant.orig" "$SRC/$file"
+    echo "$name: the mutant does not compile (see $BLD/mutant-build.log)"; exit 1
   fi
   exe="$(testExe "$targets")"
-  (cd "$BLD/tests" && "$exe" --gtest_filter="$filter" >"$SCRATCH/$name.log" 2>&1) || true
-  killers="$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_./]*\) (.*/\1/p' "$SCRATCH/$name.log" | sort -u | paste -sd, -)"
-  cp "$SCRATCH/orig" "$SRC/$file"
+  (cd "$BLD/tests" && "$exe" --gtest_filter="$filter" >"$BLD/mutant-$name.log" 2>&1) || true
+  killers="$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_./]*\) (.*/\1/p' "$BLD/mutant-$name.log" | sort -u | paste -sd, -)"
+  cp "$BLD/mutant.orig" "$SRC/$file"
   if [[ -n "$killers" ]]; then
     result="KILLED by ${killers//,/, }"
   else
@@ -225,7 +227,7 @@ for i in "${!NAMES[@]}"; do
 done
 # Leave the scratch build unmutated (the next run starts from it).
 for t in $(printf '%s\n' "${TARGETS[@]}" | tr ' ' '\n' | sort -u); do
-  cmake --build "$BLD" -j"$JOBS" --target "$t" >"$SCRATCH/build.log" 2>&1 || true
+  cmake --build "$BLD" -j"$JOBS" --target "$t" >"$BLD/mutant-build.log" 2>&1 || true
 done
 
 if [[ -n "$MD" ]]; then
