@@ -35,7 +35,7 @@ mutant() {
 }
 ID=st_test_identify
 mutant voting-spike-rule sensors/identify/voting.cpp \
-  's/std::max\(2, \(n - 1\) - n_smax\)/2/@@s/if \(n_x > n_smax \|\| top.empty\(\)\)/if (top.empty())/' \
+  's/std::max\(2, \(n - 1\) - n_smax\)/2/@@s/if \(n_x > n_smax \|\| top.empty\(\)\)/if ((void)n_smax, top.empty())/' \
   $ID 'IdentifyRules.Voting*' \
   "seed 000: n_x > n_smax skips a spike reference; f1 must reach (n-1)-n_smax"
 mutant voting-unique-companion sensors/identify/voting.cpp \
@@ -55,7 +55,7 @@ mutant triangle-moment-only sensors/identify/triangle_match.cpp \
   $ID 'IdentifyRules.Planar*:IdentifyRules.Spherical*' \
   "seed 001: the area left out (polar moment alone)"
 mutant liebe-vertex-angle sensors/identify/liebe.cpp \
-  's/ \|\| std::abs\(f->phi - phi\) > tphi\)/)/' \
+  's/ \|\| std::abs\(f->phi - phi\) > tphi\)/ || ((void)phi, (void)tphi, false))/' \
   $ID 'IdentifyRules.Liebe*' \
   "seed 003: the angle at the star between its two neighbours"
 mutant liebe-image-rim sensors/identify/liebe.cpp \

@@ -189,13 +189,15 @@ TEST(IdentifyRules, PyramidFourthStarConfirmsTheTriangle) {
 // Seed 001: planar and spherical triangles are matched by area and polar moment; the k-vector
 // gives only two sides (i-j, i-k), so without the comparison any catalog star at the i-k
 // angle from a completes the triangle.
+// Measured on 100 scenes: 93 right with both, 2 with neither, 82-87 with one alone; on 400
+// scenes the bound (90 %) is ~3 binomial sigma from both sides.
 TEST(IdentifyRules, PlanarAreaAndPolarMomentPickTheTriangle) {
-  const Rate r = firstHypothesisRate("planar", {}, clean(), 100, 102);
-  EXPECT_GE(r.right, 90);
+  const Rate r = firstHypothesisRate("planar", {}, clean(), 400, 102);
+  EXPECT_GE(r.right, 360);
 }
 TEST(IdentifyRules, SphericalAreaAndPolarMomentPickTheTriangle) {
-  const Rate r = firstHypothesisRate("spherical", {}, clean(), 100, 103);
-  EXPECT_GE(r.right, 90);
+  const Rate r = firstHypothesisRate("spherical", {}, clean(), 400, 103);
+  EXPECT_GE(r.right, 360);
 }
 
 // Seed 003: a star's feature is the distances to its two neighbours AND the angle between
