@@ -66,16 +66,12 @@ mutant nvertex-baselines sensors/identify/nvertex.cpp \
   's/!ctx.angleMatches\(j, k, b, c\) \|\|//@@s/!ctx.angleMatches\(j, l, b, d\) \|\|//@@s/!ctx.angleMatches\(k, l, c, d\)\)/false)/' \
   $ID 'IdentifyRules.NVertex*' \
   "seed 004 eq. 6.7: baselines BC, BD, CD between the assigned candidates (all three)"
-mutant nvertex-baseline-cd sensors/identify/nvertex.cpp \
-  's/!ctx.angleMatches\(k, l, c, d\)\)/false)/' \
-  $ID 'IdentifyRules.NVertex*' \
-  "seed 004 eq. 6.7: baseline CD alone"
 mutant pyramid-fourth-star sensors/identify/pyramid.cpp \
   's/!ctx.angleMatches\(j, r, t\[1\], d\) \|\|//@@s/!ctx.angleMatches\(k, r, t\[2\], d\)\)/false)/' \
   $ID 'IdentifyRules.Pyramid*' \
   "Pyramid (seed 002 ref. 18): the 4th star's angles to the triangle's 2nd and 3rd stars"
 mutant handedness-shared sensors/identify/identifier.cpp \
-  's/return \(so > 0\) == \(sc > 0\);/return true;/' \
+  's/return \(so > 0\) == \(sc > 0\);/return (void)so, (void)sc, true;/' \
   $ID 'IdentifyRules.Mirrored*' \
   "mirror images rejected by the triple product (pyramid, planar, spherical, nvertex)"
 mutant handedness-liebe sensors/identify/liebe.cpp \

@@ -13,6 +13,7 @@
 // (scripts/mutants.sh, docs/mutants.md); the bounds sit between the two with wide margins.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -73,6 +74,7 @@ struct Hypothesis {
   bool first_right = false;       ///< the first seed (voting: the reference star)
   bool first_is_false = false;    ///< the first seed is a false star
   std::size_t seeds = 0;
+  std::vector<int> obs;           ///< the seeds' observation indices, in seed order
 };
 
 Hypothesis firstHypothesis(const StarIdentifier& id, const test::Scene& sc,
@@ -94,6 +96,7 @@ Hypothesis firstHypothesis(const StarIdentifier& id, const test::Scene& sc,
     for (std::size_t j = 0; j < obs.size() && k < 0; ++j)
       if (obs[j].v_cam == s.b) k = static_cast<int>(j);
     EXPECT_GE(k, 0) << "a seed vector that is no observation";
+    h.obs.push_back(k);
     const int truth = k >= 0 ? sc.truth[k] : -1;
     const bool right = truth >= 0 && db.stars()[truth].u_i == s.r;
     if (&s == &seeds.front()) h.first_right = right, h.first_is_false = truth < 0;
@@ -103,8 +106,19 @@ Hypothesis firstHypothesis(const StarIdentifier& id, const test::Scene& sc,
   return h;
 }
 
+// Liebe's seeds are (star, nearer neighbour, farther neighbour): whether the farther one is
+// farther from the star than the image rim (liebe.cpp, seed 003 "Initial Estimate").
+bool beyondRim(const test::Scene& sc, const CameraModel& cam, int star, int farther) {
+  const Vec2 p = sc.centroids[star].px;
+  const double rim_px = std::min({p.x() + 0.5, p.y() + 0.5, cam.width() - 0.5 - p.x(),
+                                  cam.height() - 0.5 - p.y()});
+  const Vec3 a = cam.pixelToVector(p), b = cam.pixelToVector(sc.centroids[farther].px);
+  return std::atan2(a.cross(b).norm(), a.dot(b)) > rim_px * cam.pixelScale();
+}
+
 struct Rate {
   int scenes = 0, made = 0, right = 0, false_star = 0;
+  int rim_feature = 0;  ///< Liebe: hypotheses whose feature reaches beyond the image rim
   int first_right = 0, first_false = 0;  ///< the first seed right / a false star
 };
 
@@ -127,6 +141,7 @@ Rate firstHypothesisRate(const std::string& algorithm, const IdentifyOptions& op
     ++k;
     const Hypothesis h = firstHypothesis(*id, sc, cam);
     ++r.scenes;
+    r.rim_feature += h.made && h.obs.size() == 3 && beyondRim(sc, cam, h.obs[0], h.obs[2]);
     r.made += h.made;
     r.right += h.right;
     r.false_star += h.uses_false_star;
@@ -134,9 +149,9 @@ Rate firstHypothesisRate(const std::string& algorithm, const IdentifyOptions& op
     r.first_false += h.first_is_false;
   }
   std::printf("%-10s first hypotheses: %d scenes, %d made, %d right, %d with a false star; "
-              "first seed right %d, a false star %d\n",
+              "first seed right %d, a false star %d; %d features beyond the rim\n",
               algorithm.c_str(), r.scenes, r.made, r.right, r.false_star, r.first_right,
-              r.first_false);
+              r.first_false, r.rim_feature);
   return r;
 }
 
@@ -180,24 +195,27 @@ namespace {
 // ---- the rules ---------------------------------------------------------------------------
 
 // Pyramid (seed 002 ref. [18]): a triangle is a hypothesis only when a 4th star has the
-// right angles to all three of its stars.
+// right angles to all three of its stars. 0.5 px noise (wider slices, more chance partners):
+// measured 197 of 200 right; with only the 4th star's angle to the first star, 59.
 TEST(IdentifyRules, PyramidFourthStarConfirmsTheTriangle) {
-  const Rate r = firstHypothesisRate("pyramid", {}, clean(), 100, 101);
-  EXPECT_GE(r.right, 95);
+  test::SceneParams sp = clean();
+  sp.noise_px = 0.5;
+  const Rate r = firstHypothesisRate("pyramid", {}, sp, 200, 101);
+  EXPECT_GE(r.right, 190);
 }
 
 // Seed 001: planar and spherical triangles are matched by area and polar moment; the k-vector
 // gives only two sides (i-j, i-k), so without the comparison any catalog star at the i-k
 // angle from a completes the triangle.
-// Measured on 100 scenes: 93 right with both, 2 with neither, 82-87 with one alone; on 400
-// scenes the bound (90 %) is ~3 binomial sigma from both sides.
+// Measured on these 400 scenes: 366 (planar) and 375 (spherical) right with both, 330-348
+// with one alone (docs/mutants.md); on 100 scenes 2 with neither. The bound sits between.
 TEST(IdentifyRules, PlanarAreaAndPolarMomentPickTheTriangle) {
   const Rate r = firstHypothesisRate("planar", {}, clean(), 400, 102);
-  EXPECT_GE(r.right, 360);
+  EXPECT_GE(r.right, 355);
 }
 TEST(IdentifyRules, SphericalAreaAndPolarMomentPickTheTriangle) {
   const Rate r = firstHypothesisRate("spherical", {}, clean(), 400, 103);
-  EXPECT_GE(r.right, 360);
+  EXPECT_GE(r.right, 355);
 }
 
 // Seed 003: a star's feature is the distances to its two neighbours AND the angle between
@@ -208,16 +226,46 @@ TEST(IdentifyRules, LiebeVertexAngleSeparatesFeatures) {
 }
 
 // Seed 003 "Initial Estimate": a star whose 2nd neighbour lies farther than the image rim
-// may have its true neighbour outside the image: its feature is not used.
+// may have its true neighbour outside the image: that feature is not looked up. Scenes where
+// the brightest star (the first one queried) is such a star and one of its two nearest
+// catalog stars is indeed outside the image. No hypothesis may come from such a feature.
+// (Measured: the rule does not make the first hypothesis more often right, 100/94/72 right
+// with it vs 99/94/84 without at 0.1/0.3/0.5 px noise: the catalog side registers every pair
+// among four neighbours, so a missing neighbour is already survived (seed 003 Fig. 13).)
 TEST(IdentifyRules, LiebeSkipsStarsWhoseNeighbourMayLieBeyondTheRim) {
-  const Rate r = firstHypothesisRate("liebe", {}, clean(), 100, 105);
-  EXPECT_GE(r.right, 90);
+  auto nearRim = [](test::Scene& sc, std::mt19937_64&, const CameraModel& cam) {
+    const Vec2 p = sc.centroids.front().px;
+    const double rim = std::min({p.x() + 0.5, p.y() + 0.5, cam.width() - 0.5 - p.x(),
+                                 cam.height() - 0.5 - p.y()});
+    std::vector<double> d;
+    for (std::size_t k = 1; k < sc.centroids.size(); ++k)
+      d.push_back((sc.centroids[k].px - p).norm());
+    if (d.size() < 3) return false;
+    std::sort(d.begin(), d.end());
+    if (!(d[1] > rim)) return false;  // its 2nd observed neighbour is farther than the rim
+    // ... and one of its two nearest catalog stars is outside the image (so the observed
+    // neighbours are not its true ones).
+    const StarDatabase& db = test::testDatabase();
+    const uint32_t s = static_cast<uint32_t>(sc.truth.front());
+    const uint32_t* nb = db.neighboursBegin(s);
+    for (int k = 0; k < 2 && nb + k < db.neighboursEnd(s); ++k)
+      if (std::find(sc.truth.begin(), sc.truth.end(), static_cast<int>(nb[k])) == sc.truth.end())
+        return true;
+    return false;
+  };
+  const Rate r = firstHypothesisRate("liebe", {}, clean(), 100, 105, nearRim);
+  EXPECT_EQ(r.rim_feature, 0);
+  EXPECT_GE(r.right, 95);
 }
 
-// Seed 004 eq. 6.7: all six baselines of the four stars must hold.
+// Seed 004 eq. 6.7: all six baselines of the four stars must hold. 0.5 px noise: measured
+// 199 of 200 right. (Baseline CD alone matters little: without it 194; the other five
+// nearly fix the quad.)
 TEST(IdentifyRules, NVertexChecksEveryBaseline) {
-  const Rate r = firstHypothesisRate("nvertex", {}, clean(), 100, 106);
-  EXPECT_GE(r.right, 95);
+  test::SceneParams sp = clean();
+  sp.noise_px = 0.5;
+  const Rate r = firstHypothesisRate("nvertex", {}, sp, 200, 106);
+  EXPECT_GE(r.right, 190);
 }
 
 // Seed 000 "Reference-star": a spike (a false star) as the reference must not vote. Its
