@@ -259,6 +259,9 @@ CameraModel CameraModel::loadIni(const IniReader& r, const std::string& section)
     for (const char* key : {"fx", "fy", "cx", "cy"})
       if (r.has(section, key))
         throw InputError(r.whereKey(section, key) + ": give either fov_deg or fx fy cx cy");
+    if (!(k.fov_deg > 0 && k.fov_deg < 180))  // fromFov's check, naming the file and key
+      throw InputError(r.whereKey(section, "fov_deg") + ": must be in (0, 180) deg, got " +
+                       std::to_string(k.fov_deg));
     const CameraModel cam = fromFov(w, h, deg2rad(k.fov_deg));
     return CameraModel(w, h, cam.fx(), cam.fy(), cam.cx(), cam.cy(), dist);
   }
