@@ -73,7 +73,11 @@ McRunFile readRunFile(const std::string& path) {
     throw InputError(path + ": not a montecarlo run file (no [" + kRunSection + "] section)");
   McRunFile run;
   runFileSchema().read(r, kRunSection, run);
-  parseShard(run.shard, run.options.shard_index, run.options.shard_count);
+  try {
+    parseShard(run.shard, run.options.shard_index, run.options.shard_count);
+  } catch (const InputError& e) {  // parseShard speaks of the flag: name the file's key
+    throw InputError(r.whereKey(kRunSection, "shard") + ": " + e.what());
+  }
   return run;
 }
 

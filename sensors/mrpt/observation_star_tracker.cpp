@@ -94,6 +94,12 @@ void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
       double w, x, y, z;
       in >> w >> x >> y >> z;
       q_ib = Quat(w, x, y, z);
+      // MRPT's CQuaternion (getDescriptionAsText) refuses |q|^2 off 1 by 1e-3: so does the
+      // reader, for an attitude (a fuzz finding, tests/fuzz/regressions/star_tracker_obs/).
+      if (mode != StarTrackerMode::kFailed && !(std::abs(q_ib.squaredNorm() - 1.0) < 1e-3)) {
+        THROW_EXCEPTION_FMT("CObservationStarTracker: attitude quaternion not normalised "
+                            "(|q|^2 = %g)", q_ib.squaredNorm());
+      }
       readVec(in, cov_body.data(), 9);
       uint32_t n = 0;
       in >> n;
