@@ -124,9 +124,14 @@ void FusionLoop::push(Event e) {
   }
   if (e.kind == kGyro) {
     newest_gyro_t_ = std::max(newest_gyro_t_.value_or(e.t), e.t);
-  } else if (e.kind == kFrame && clockAhead(e)) {
-    refuseFrame(e);
-    return;
+    ++gyro_since_frame_;
+  } else if (e.kind == kFrame) {
+    const bool ahead = clockAhead(e);
+    gyro_since_frame_ = 0;
+    if (ahead) {
+      refuseFrame(e);
+      return;
+    }
   }
   for (const Event& q : queue_) {
     if (q.t == e.t && q.kind == e.kind) {
@@ -147,7 +152,10 @@ bool FusionLoop::clockAhead(Event& e) const {
   // processing), so a frame can be ahead of the newest gyro sample by at most the ordering
   // slack and the gyro's own sample interval (and its jitter: gyro_gap_factor). Further ahead,
   // the camera stamped a time that has not come yet on the gyro's clock.
-  if (!opts_.check_camera_clock || !newest_gyro_t_ || gyro_dt_nominal_ <= 0 || gyro_lost_)
+  // A gyro that sent nothing since the previous frame is silent (a gap), not behind: the
+  // frame is coasted to as before. A live gyro keeps sending between frames.
+  if (!opts_.check_camera_clock || !newest_gyro_t_ || gyro_dt_nominal_ <= 0 || gyro_lost_ ||
+      gyro_since_frame_ == 0)
     return false;
   const double ahead = e.t - *newest_gyro_t_;
   const double slack = opts_.reorder_window_s + opts_.gyro_gap_factor * gyro_dt_nominal_;

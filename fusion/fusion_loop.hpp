@@ -23,8 +23,9 @@
 ///    lost gyro (no state reported, frames lost-in-space, fixes unfiltered) until the samples
 ///    pass again, then re-initialised from a lost-in-space fix (keeping the bias);
 ///  - camera clock: a frame (or fix) stamped later than the newest gyro sample by more than
-///    the reorder window plus gyro_gap_factor sample intervals cannot have been taken yet
-///    when it arrives (events arrive in time order, a fix after its processing): the
+///    the reorder window plus gyro_gap_factor sample intervals, while the gyro sent samples
+///    since the previous frame (it is not silent), cannot have been taken yet when it
+///    arrives (events arrive in time order, a fix after its processing): the
 ///    camera's clock has jumped against the gyro's. The frame is not processed: its step
 ///    reports FixUse::kClockRefused with no filter state at that stamp;
 ///  - gyro gaps: a sample later than gyro_gap_factor nominal intervals after the previous one
@@ -227,6 +228,7 @@ class FusionLoop {
   GyroHealth health_;
   std::optional<double> newest_gyro_t_;  // the gyro's timeline as pushed
   int clock_refused_ = 0;
+  int gyro_since_frame_ = 0;  // gyro samples pushed since the last frame (arrival order)
   bool filter_suspended_ = false;  // since the gyro was lost, until re-initialised
   bool reinit_pending_ = false;
   int reinits_ = 0;
