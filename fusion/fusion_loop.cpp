@@ -34,6 +34,7 @@ bool FusionOptions::isValid(std::string* why) const {
   if (!isRotation(R_body_gyro)) return bad("R_body_gyro", "not a rotation matrix");
   if (!isRotation(R_body_camera)) return bad("R_body_camera", "not a rotation matrix");
   if (max_warnings < 0) return bad("max_warnings", "must be >= 0");
+  if (!gyro_health.isValid(&err)) return bad("gyro_health", err);
   return true;
 }
 
@@ -56,6 +57,7 @@ const char* toString(FixUse u) {
     case FixUse::kRejected: return "rejected";
     case FixUse::kIgnored: return "ignored";
     case FixUse::kUnfiltered: return "unfiltered";
+    case FixUse::kClockRefused: return "clock_refused";
   }
   return "?";
 }
@@ -75,7 +77,8 @@ static FusionOptions validated(FusionOptions o) {
 FusionLoop::FusionLoop(FusionOptions options, StarDirection star_direction)
     : opts_(validated(std::move(options))),
       star_direction_(std::move(star_direction)),
-      filter_(opts_.filter) {
+      filter_(opts_.filter),
+      health_(opts_.gyro_health) {
   recent_.reserve(kRateRing);
   ahead_.reserve(kRateRing);
 }
@@ -88,20 +91,20 @@ void FusionLoop::warn(const std::string& msg) {
 // ---- events ----------------------------------------------------------------------------
 
 void FusionLoop::pushGyro(double t, const Vec3& rate_gyro) {
-  Event e{t, kGyro, 0, 0, opts_.R_body_gyro * rate_gyro, std::nullopt};
+  Event e{t, kGyro, 0, 0, opts_.R_body_gyro * rate_gyro, std::nullopt, {}};
   push(std::move(e));
 }
 
 void FusionLoop::pushFrame(double t, uint64_t tag) {
-  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::nullopt});
+  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::nullopt, {}});
 }
 
 void FusionLoop::pushFix(double t, uint64_t tag, FrameResult fix) {
-  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::move(fix)});
+  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::move(fix), {}});
 }
 
 void FusionLoop::pushMarker(double t, uint64_t tag) {
-  push(Event{t, kMarker, 0, tag, Vec3::Zero(), std::nullopt});
+  push(Event{t, kMarker, 0, tag, Vec3::Zero(), std::nullopt, {}});
 }
 
 void FusionLoop::push(Event e) {
@@ -119,6 +122,17 @@ void FusionLoop::push(Event e) {
          ": dropped");
     return;
   }
+  if (e.kind == kGyro) {
+    newest_gyro_t_ = std::max(newest_gyro_t_.value_or(e.t), e.t);
+    ++gyro_since_frame_;
+  } else if (e.kind == kFrame) {
+    const bool ahead = clockAhead(e);
+    gyro_since_frame_ = 0;
+    if (ahead) {
+      refuseFrame(e);
+      return;
+    }
+  }
   for (const Event& q : queue_) {
     if (q.t == e.t && q.kind == e.kind) {
       warn(std::string("duplicate ") + kNames[e.kind] + " at " + formatLoopTime(e.t) + ": dropped");
@@ -131,6 +145,49 @@ void FusionLoop::push(Event e) {
   std::push_heap(queue_.begin(), queue_.end());
   const double ready_before = newest_t_ - opts_.reorder_window_s;
   processWhile([ready_before](const Event& next) { return next.t <= ready_before; });
+}
+
+bool FusionLoop::clockAhead(Event& e) const {
+  // Events arrive in time order (a rawlog is written as they come, a live fix after its
+  // processing), so a frame can be ahead of the newest gyro sample by at most the ordering
+  // slack and the gyro's own sample interval (and its jitter: gyro_gap_factor). Further ahead,
+  // the camera stamped a time that has not come yet on the gyro's clock.
+  // A gyro that sent nothing since the previous frame is silent (a gap), not behind: the
+  // frame is coasted to as before. A live gyro keeps sending between frames.
+  if (!opts_.check_camera_clock || !newest_gyro_t_ || gyro_dt_nominal_ <= 0 || gyro_lost_ ||
+      gyro_since_frame_ == 0)
+    return false;
+  const double ahead = e.t - *newest_gyro_t_;
+  const double slack = opts_.reorder_window_s + opts_.gyro_gap_factor * gyro_dt_nominal_;
+  if (!(ahead > slack)) return false;
+  char b[200];
+  std::snprintf(b, sizeof b,
+                "camera clock %.3f s ahead of the gyro's (frame stamped %s, newest gyro sample "
+                "at %s): frame not processed",
+                ahead, formatLoopTime(e.t).c_str(), formatLoopTime(*newest_gyro_t_).c_str());
+  e.refused = b;
+  return true;
+}
+
+void FusionLoop::refuseFrame(Event& e) {
+  // Reported at once, in arrival order: queued at its stamp it would hold every later event
+  // (and a genuine frame of the same stamp would be dropped as its duplicate).
+  ++clock_refused_;
+  warn(e.refused);
+  FrameResult refused;
+  if (e.fix) refused = std::move(*e.fix);  // a live fix keeps what it claimed
+  if (!refused.hasAttitude()) {
+    refused.mode = StarTrackerMode::kFailed;
+    refused.failure = FrameFailure::kNoImage;
+  }
+  refused.detail = e.refused;
+  FusionStep s;
+  s.t = e.t;
+  s.tag = e.tag;
+  s.is_frame = true;
+  s.frame = &refused;
+  s.use = FixUse::kClockRefused;  // no filter state at a stamp the gyro has not reached
+  emit(s);
 }
 
 void FusionLoop::flush() {
@@ -172,7 +229,8 @@ void FusionLoop::process(Event& e) {
 
 // ---- gyro ------------------------------------------------------------------------------
 
-void FusionLoop::onGyro(double t, const Vec3& rate) {
+void FusionLoop::onGyro(double t, const Vec3& rate_in) {
+  Vec3 rate = rate_in;
   if (!rate.allFinite()) {
     warn("gyro sample at " + formatLoopTime(t) + " has a non-finite rate: dropped");
     return;
@@ -196,6 +254,7 @@ void FusionLoop::onGyro(double t, const Vec3& rate) {
     // The sample is the mean rate over its own interval only: coast up to its start.
     coastTo(t - gyro_dt_nominal_);
   }
+  checkHealth(t, dt, rate);
   in_gap_ = false;
   last_gyro_t_ = t;
   if (recent_.size() < kRateRing) {
@@ -205,6 +264,42 @@ void FusionLoop::onGyro(double t, const Vec3& rate) {
   }
   ++recent_next_;
   if (filter_.initialized() && t > filter_.time()) filter_.propagate(rate, t);
+}
+
+void FusionLoop::checkHealth(double t, double dt, Vec3& rate) {
+  // The checks need the sample interval: none on the first sample, and across a gap the
+  // nominal one (a gap's sample is the mean over its own interval only).
+  if (!(dt > 0) || gyro_dt_nominal_ <= 0) return;
+  const double sigma_s = opts_.filter.arw_rad_rt_s / std::sqrt(gyro_dt_nominal_);
+  const GyroSampleCheck c =
+      health_.check(opts_.R_body_gyro.transpose() * rate, gyro_dt_nominal_, sigma_s);
+  rate = opts_.R_body_gyro * c.rate;
+  if (!c.step_error.isZero() && filter_.initialized()) {
+    // Samples replaced as spikes were a real rate step: put their rotation back, and their
+    // size into the covariance (the step's timing within them is not known).
+    const Vec3 e = opts_.R_body_gyro * c.step_error;
+    Mat6 P = filter_.covariance();
+    P.topLeftCorner<3, 3>() += Mat3(e.cwiseAbs2().asDiagonal());
+    filter_.initialize(filter_.time(), filter_.attitude() * quatExp(e), filter_.bias(), P);
+  }
+  if (!c.changed) return;
+  if (!c.healthy) {
+    gyro_unhealthy_ = true;
+    filter_suspended_ = true;
+    reinit_pending_ = false;
+    warn("gyro unhealthy at " + formatLoopTime(t) + ": " + c.why +
+         ": the filter is suspended; frames are solved lost-in-space and their fixes reported "
+         "unfiltered until the gyro passes its checks again");
+  } else {
+    gyro_unhealthy_ = false;
+    if (filter_.initialized()) {
+      reinit_pending_ = true;
+    } else {
+      filter_suspended_ = false;
+    }
+    warn("gyro " + c.why + " at " + formatLoopTime(t) +
+         ": re-initialising the filter from lost-in-space");
+  }
 }
 
 Vec3 FusionLoop::meanRate(double t, const std::vector<TimedRate>& extra) const {
@@ -274,7 +369,8 @@ FrameInputs FusionLoop::frameInputs(double t) const {
   std::sort(ahead.begin(), ahead.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
   const bool have_rate = !recent_.empty() || !ahead.empty();
   const bool stale = ahead.empty() && gyroStale(t);
-  if (reinit_pending_ || !opts_.filter_enabled || (ahead.empty() && gyroLost(t))) {
+  if (reinit_pending_ || !opts_.filter_enabled || gyro_unhealthy_ ||
+      (ahead.empty() && gyroLost(t))) {
     in.force_lost_in_space = true;
   } else if (filter_.initialized()) {
     MekfPrediction p;
@@ -344,7 +440,7 @@ void FusionLoop::onFrame(Event& e) {
 
 FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u) {
   if (!fix.hasAttitude()) return FixUse::kNoFix;
-  if (!opts_.filter_enabled || gyro_lost_) return FixUse::kUnfiltered;
+  if (!opts_.filter_enabled || gyro_lost_ || gyro_unhealthy_) return FixUse::kUnfiltered;
   const bool lis = fix.mode == StarTrackerMode::kLostInSpace;
   if (!filter_.initialized()) {
     filter_.initialize(t, fix.q_ib, fix.cov_body);

@@ -17,6 +17,17 @@
 ///    in (time, kind) order, kind gyro < frame/fix < marker; an event older than what was
 ///    already processed, or a duplicate (same time and kind), is dropped with a warning. Live
 ///    fixes arrive after their processing time: their window is the latency allowed;
+///  - gyro health (fusion/gyro_health.hpp): every sample is checked in the gyro's frame
+///    against its datasheet noise; a spike is replaced by the median of the samples before it;
+///    an axis found stuck or noisy makes the gyro unhealthy: the filter is suspended as for a
+///    lost gyro (no state reported, frames lost-in-space, fixes unfiltered) until the samples
+///    pass again, then re-initialised from a lost-in-space fix (keeping the bias);
+///  - camera clock: a frame (or fix) stamped later than the newest gyro sample by more than
+///    the reorder window plus gyro_gap_factor sample intervals, while the gyro sent samples
+///    since the previous frame (it is not silent), cannot have been taken yet when it
+///    arrives (events arrive in time order, a fix after its processing): the
+///    camera's clock has jumped against the gyro's. The frame is not processed: its step
+///    reports FixUse::kClockRefused with no filter state at that stamp;
 ///  - gyro gaps: a sample later than gyro_gap_factor nominal intervals after the previous one
 ///    is coasted to (the mean rate of the last rate_window_s held, with the covariance of a
 ///    held rate error added), frames inside a gap coast too;
@@ -41,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "fusion/gyro_health.hpp"
 #include "fusion/mekf.hpp"
 #include "sensors/tracking/frame.hpp"
 
@@ -68,6 +80,9 @@ struct FusionOptions {
   /// frames, and a filter fed fixes alone diverges on a moving body). Every frame is asked
   /// for lost-in-space and its fix is the output, unfiltered (FixUse::kUnfiltered).
   bool filter_enabled = true;
+  GyroHealthOptions gyro_health;
+  /// Refuse frames stamped ahead of the gyro's timeline (see the policy above).
+  bool check_camera_clock = true;
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -93,7 +108,9 @@ enum class FixUse : uint8_t {
   kAccepted,       ///< filter update accepted
   kRejected,       ///< refused by the filter's gate
   kIgnored,        ///< a re-initialisation was pending and the fix was not lost-in-space
-  kUnfiltered,     ///< no filter (FusionOptions::filter_enabled false): the fix is the output
+  kUnfiltered,     ///< no filter (FusionOptions::filter_enabled false), or a gyro lost or
+                   ///< unhealthy: the fix is the output
+  kClockRefused,   ///< the frame's stamp is ahead of the gyro's timeline: not processed
 };
 const char* toString(FixUse u);
 
@@ -147,6 +164,10 @@ class FusionLoop {
   int warningCount() const { return warning_count_; }
   int reinitializations() const { return reinits_; }
   bool reinitPending() const { return reinit_pending_; }
+  /// False while a gyro health check holds the gyro for faulty (the filter is suspended).
+  bool gyroHealthy() const { return !gyro_unhealthy_; }
+  int gyroSpikes() const { return health_.spikes(); }
+  int clockRefusedFrames() const { return clock_refused_; }
 
  private:
   enum Kind : int { kGyro = 0, kFrame = 1, kMarker = 2 };
@@ -156,6 +177,7 @@ class FusionLoop {
     uint64_t seq, tag;
     Vec3 rate;                        // kGyro (body frame)
     std::optional<FrameResult> fix;   // kFrame made elsewhere
+    std::string refused;              // kFrame: why it is not processed (camera clock)
     bool operator<(const Event& o) const;  // heap order: later is "less"
   };
   struct TimedRate {
@@ -169,6 +191,10 @@ class FusionLoop {
   void processWhile(Predicate ready);
   void process(Event& e);
   void onGyro(double t, const Vec3& rate_body);
+  /// The health checks on a sample (body frame; spikes replaced in place).
+  void checkHealth(double t, double dt, Vec3& rate_body);
+  bool clockAhead(Event& e) const;
+  void refuseFrame(Event& e);
   void onFrame(Event& e);
   FixUse useFix(double t, const FrameResult& fix, MekfUpdateResult& u);
   MekfUpdateResult update(const FrameResult& fix);
@@ -198,6 +224,11 @@ class FusionLoop {
   std::size_t recent_next_ = 0;
   bool in_gap_ = false;
   bool gyro_lost_ = false;         // silent beyond max_gyro_coast_s: no filtering
+  bool gyro_unhealthy_ = false;    // a health check failed: no filtering
+  GyroHealth health_;
+  std::optional<double> newest_gyro_t_;  // the gyro's timeline as pushed
+  int clock_refused_ = 0;
+  int gyro_since_frame_ = 0;  // gyro samples pushed since the last frame (arrival order)
   bool filter_suspended_ = false;  // since the gyro was lost, until re-initialised
   bool reinit_pending_ = false;
   int reinits_ = 0;

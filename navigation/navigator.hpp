@@ -4,6 +4,10 @@
 /// DESIGN.md "Rawlogs") into the loop's events, and the loop's steps come back as NavSteps
 /// (with the star tracker's observation for the output rawlog).
 ///   GYRO (CObservationIMU)              -> FusionLoop::pushGyro;
+/// A CAMERA image identical to the previous one (a stuck readout: a sensor repeats noise
+/// bit for bit only when it repeats its image) is not processed as new: its frame fails with
+/// the reason, and the filter coasts on the gyro across it. Cheap: a 64-bit hash of the
+/// pixels, then a full comparison only when the hashes are equal.
 ///   CAMERA (CObservationImage)          -> FusionLoop::pushFrame: the navigator's own star
 ///                                          tracker processes it with the loop's inputs
 ///                                          (replay; Source::kCameraFrames);
@@ -20,6 +24,8 @@
 #pragma once
 #include <mrpt/core/Clock.h>
 #include <mrpt/obs/CObservation.h>
+
+#include <opencv2/core.hpp>
 
 #include <functional>
 #include <map>
@@ -92,6 +98,7 @@ class Navigator {
   std::vector<std::string> warnings() const;
   int warningCount() const;
   int reinitializations() const { return loop_.reinitializations(); }
+  int frozenFrames() const { return frozen_frames_; }
   /// Seconds from the first observation pushed to `t` (0 before any).
   double secondsFromStart(mrpt::Clock::time_point t) const;
   const AttitudeMekf& filter() const { return loop_.filter(); }
@@ -118,6 +125,10 @@ class Navigator {
   uint64_t next_tag_ = 0;
   std::map<uint64_t, mrpt::obs::CObservation::Ptr> held_;  // until their step
   CObservationStarTracker::Ptr frame_obs_;  // the observation of the frame being processed
+  cv::Mat last_image_;  // the previous frame's pixels (shared, not copied) and their hash
+  uint64_t last_hash_ = 0;
+  double last_image_t_ = 0;
+  int frozen_frames_ = 0;
 
   std::optional<NavStep> pending_;  // a frame step waiting for a truth at the same time
   CObservationStarTracker::Ptr pending_obs_;

@@ -28,11 +28,28 @@ bool taken(FixUse u) {
 
 IntegrityStats integrityStats(const std::vector<NavStep>& steps) {
   IntegrityStats s;
-  double last_used = -1;
+  double last_used = -1, last_estimate = -1;
   const auto wrong = [&s](double t) {
     if (s.first_wrong_t < 0) s.first_wrong_t = t;
   };
   for (const NavStep& st : steps) {
+    // The filter's estimate is an output at every step, a truth marker between frames too
+    // (a camera outage coasted on the gyro).
+    if (st.initialized) {
+      if (last_estimate >= 0 && st.t - last_estimate > s.longest_no_estimate_s) {
+        s.longest_no_estimate_s = st.t - last_estimate;
+        s.no_estimate_from_s = last_estimate;
+        s.no_estimate_to_s = st.t;
+      }
+      last_estimate = st.t;
+    }
+    if (st.has_truth && st.initialized) {
+      ++s.filter_steps;
+      if (outsideBound(st.error.rotvec_body, st.P_att)) {
+        ++s.wrong_filter_steps;
+        wrong(st.t);
+      }
+    }
     if (!st.has_frame) continue;
     if (st.fix && taken(st.use)) {
       if (last_used >= 0 && st.t - last_used > s.longest_outage_s) {
@@ -56,13 +73,6 @@ IntegrityStats integrityStats(const std::vector<NavStep>& steps) {
         ++s.wrong_refused_fixes;
       }
     }
-    if (st.initialized) {
-      ++s.filter_steps;
-      if (outsideBound(st.error.rotvec_body, st.P_att)) {
-        ++s.wrong_filter_steps;
-        wrong(st.t);
-      }
-    }
   }
   return s;
 }
@@ -79,6 +89,9 @@ void printIntegritySummary(const std::vector<NavStep>& steps, std::FILE* out) {
                s.wrong_filter_steps, s.filter_steps, s.wrong_refused_fixes);
   std::fprintf(out, "integrity: longest time without a used fix %.2f s (t = %.2f to %.2f s)\n",
                s.longest_outage_s, s.outage_from_s, s.outage_to_s);
+  std::fprintf(out,
+               "integrity: longest time without a filter estimate %.2f s (t = %.2f to %.2f s)\n",
+               s.longest_no_estimate_s, s.no_estimate_from_s, s.no_estimate_to_s);
   if (s.first_wrong_t >= 0)
     std::fprintf(out, "integrity: first wrong valid output at t = %.2f s\n", s.first_wrong_t);
 }

@@ -11,7 +11,7 @@
 /// counted apart: the tracker said it was good, the system did not use it.
 /// Outage: the longest time between consecutive frames whose fix the filter took (or, without
 /// a filter, consecutive fixes) -- a fault's recovery time is the outage's end minus the
-/// fault's end.
+/// fault's end. Estimate outage: the same between steps with a filter estimate.
 #pragma once
 #include <cstdio>
 #include <vector>
@@ -31,6 +31,10 @@ struct IntegrityStats {
   double longest_outage_s = 0; ///< longest time between used fixes (from the first)
   double outage_from_s = 0, outage_to_s = 0;  ///< its ends [s from the first observation]
   double first_wrong_t = -1;   ///< [s] of the first wrong valid output (-1: none)
+  /// Longest time between steps with a filter estimate (a filter suspended, e.g. by an
+  /// unhealthy gyro, reports none): a gyro fault's recovery ends there.
+  double longest_no_estimate_s = 0;
+  double no_estimate_from_s = 0, no_estimate_to_s = 0;
 };
 
 IntegrityStats integrityStats(const std::vector<NavStep>& steps);

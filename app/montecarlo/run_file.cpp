@@ -60,13 +60,24 @@ McRunFile readRunFile(const std::string& path) {
   // Bare key = value lines (before the section existed): the same keys, one section.
   if (s.find("\n[") == std::string::npos && s.rfind("[", 0) != 0)
     s = "[" + std::string(kRunSection) + "]\n" + s;
-  const mrpt::config::CConfigFileMemory cfg(s);
+  // MRPT's ini preprocessor throws std::runtime_error (e.g. an unclosed `$env{`).
+  mrpt::config::CConfigFileMemory cfg;
+  try {
+    cfg.setContent(s);
+  } catch (const std::exception& e) {
+    const std::string why = e.what();
+    throw InputError(path + ": not a readable .ini file (" + why.substr(0, why.find('\n')) + ")");
+  }
   const IniReader r{cfg, path};
   if (!cfg.sectionExists(kRunSection))
     throw InputError(path + ": not a montecarlo run file (no [" + kRunSection + "] section)");
   McRunFile run;
   runFileSchema().read(r, kRunSection, run);
-  parseShard(run.shard, run.options.shard_index, run.options.shard_count);
+  try {
+    parseShard(run.shard, run.options.shard_index, run.options.shard_count);
+  } catch (const InputError& e) {  // parseShard speaks of the flag: name the file's key
+    throw InputError(r.whereKey(kRunSection, "shard") + ": " + e.what());
+  }
   return run;
 }
 

@@ -252,6 +252,9 @@ CameraModel CameraModel::loadIni(const IniReader& r, const std::string& section)
   const std::string where = r.where(section);
   if (k.resolution.size() != 2)
     throw InputError(r.whereKey(section, "resolution") + ": must be [width height]");
+  for (double v : k.resolution)  // before the cast to int (a fuzz finding)
+    if (!(v >= 1 && v <= 1e6))
+      throw InputError(r.whereKey(section, "resolution") + ": width and height must be in [1, 1000000] px");
   const int w = static_cast<int>(k.resolution[0]), h = static_cast<int>(k.resolution[1]);
   const Distortion dist = distortionFromVector(k.dist, r.whereKey(section, "dist"));
   if (k.fov_deg != 0) {  // 0 is the printed "not used"
@@ -259,6 +262,9 @@ CameraModel CameraModel::loadIni(const IniReader& r, const std::string& section)
     for (const char* key : {"fx", "fy", "cx", "cy"})
       if (r.has(section, key))
         throw InputError(r.whereKey(section, key) + ": give either fov_deg or fx fy cx cy");
+    if (!(k.fov_deg > 0 && k.fov_deg < 180))  // fromFov's check, naming the file and key
+      throw InputError(r.whereKey(section, "fov_deg") + ": must be in (0, 180) deg, got " +
+                       std::to_string(k.fov_deg));
     const CameraModel cam = fromFov(w, h, deg2rad(k.fov_deg));
     return CameraModel(w, h, cam.fx(), cam.fy(), cam.cx(), cam.cy(), dist);
   }

@@ -4,6 +4,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/serialization/stl_serialization.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <ostream>
@@ -32,6 +33,19 @@ void writeVec(mrpt::serialization::CArchive& out, const double* p, int n) {
 }
 void readVec(mrpt::serialization::CArchive& in, double* p, int n) {
   for (int i = 0; i < n; ++i) in >> p[i];
+}
+// MRPT's string layout (uint32 length, bytes) read in chunks: a damaged length then fails at
+// the end of the data instead of allocating and zeroing up to 4 GB first (a fuzz finding,
+// tests/fuzz/regressions/rawlog/).
+void readString(mrpt::serialization::CArchive& in, std::string& s) {
+  uint32_t n = 0;
+  in >> n;
+  s.clear();
+  while (s.size() < n) {
+    const std::size_t old = s.size(), chunk = std::min<std::size_t>(n - old, 1 << 16);
+    s.resize(old + chunk);
+    in.ReadBuffer(&s[old], chunk);
+  }
 }
 }  // namespace
 
@@ -65,12 +79,14 @@ void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
     case 0:
     case 1:
     case 2: {
-      in >> timestamp >> sensorLabel;
+      in >> timestamp;
+      readString(in, sensorLabel);
       mrpt::math::CVectorFixedDouble<12> pose12;
       readVec(in, &pose12[0], 12);
       sensor_pose = mrpt::poses::CPose3D(pose12);
       uint8_t m = 0;
-      in >> m >> reason;
+      in >> m;
+      readString(in, reason);
       if (m > static_cast<uint8_t>(StarTrackerMode::kFailed)) {
         THROW_EXCEPTION_FMT("CObservationStarTracker: bad mode value %u", unsigned(m));
       }
@@ -78,15 +94,26 @@ void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
       double w, x, y, z;
       in >> w >> x >> y >> z;
       q_ib = Quat(w, x, y, z);
+      // MRPT's CQuaternion (getDescriptionAsText) refuses |q|^2 off 1 by 1e-3: so does the
+      // reader, for an attitude (a fuzz finding, tests/fuzz/regressions/star_tracker_obs/).
+      if (mode != StarTrackerMode::kFailed && !(std::abs(q_ib.squaredNorm() - 1.0) < 1e-3)) {
+        THROW_EXCEPTION_FMT("CObservationStarTracker: attitude quaternion not normalised "
+                            "(|q|^2 = %g)", q_ib.squaredNorm());
+      }
       readVec(in, cov_body.data(), 9);
       uint32_t n = 0;
       in >> n;
-      stars.assign(n, MatchedStar{});
-      for (MatchedStar& s : stars) {
+      // Grown star by star: a damaged count ends at the end of the data, not in a huge
+      // allocation (tests/fuzz/regressions/star_tracker_obs/).
+      stars.clear();
+      stars.reserve(std::min<uint32_t>(n, 1024));
+      for (uint32_t i = 0; i < n; ++i) {
+        MatchedStar s;
         in >> s.catalog_id;
         readVec(in, s.px.data(), 2);
         readVec(in, s.v_cam.data(), 3);
         in >> s.residual;
+        stars.push_back(s);
       }
       in >> num_blobs;
       timings = StageTimings{};  // version 0 had no timings

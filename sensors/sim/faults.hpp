@@ -15,8 +15,10 @@
 ///    camera that stops and restarts);
 ///  - frozen images: during an interval the camera repeats the last image read before it (a
 ///    stuck readout) with fresh timestamps, while the truth moves on;
-///  - camera clock jumps: from a time on, the camera stamps its frames (and their truth) dt
-///    later (dt > 0) or earlier (dt < 0); jumps add up;
+///  - camera clock jumps: from a time on, the camera stamps its frames dt later (dt > 0) or
+///    earlier (dt < 0); jumps add up. `simulate` stamps the ground truth with the true clock
+///    (the truth is no camera's); the live simulated camera still stamps its truth with its
+///    own clock;
 ///  - gyro faults during [gyro_fault_start_s, gyro_fault_end_s): one axis stuck at its last
 ///    reading, and/or one axis with extra white noise; spikes: single samples with a large
 ///    error on one random axis, a Poisson number per second over the whole run.

@@ -71,7 +71,8 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
     } else {
       ++sum.frames_dropped;
     }
-    ar << *makeTruthObservation(f.q_ib, f.truth, stamp);
+    // The truth keeps the true clock: a camera clock jump is the camera's fault alone.
+    ar << *makeTruthObservation(f.q_ib, f.truth, sc.timestamp(f.t));
     ++sum.objects;
     ++sum.frames;
     bar.update(static_cast<std::size_t>(k + 1));
