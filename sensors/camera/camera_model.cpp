@@ -168,6 +168,8 @@ CameraModel CameraModel::loadYaml(const std::string& path) {
     fs.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& e) {
     throw InputError(path + ": not a readable OpenCV YAML/XML camera file (" + e.err + ")");
+  } catch (const std::exception& e) {  // found by fuzzing: std::length_error from the parser
+    throw InputError(path + ": not a readable OpenCV YAML/XML camera file (" + e.what() + ")");
   }
   if (!fs.isOpened()) throw InputError(path + ": cannot open camera file");
   auto need = [&](const char* key) {
@@ -194,6 +196,10 @@ CameraModel CameraModel::loadYaml(const std::string& path) {
     h = static_cast<int>(need("image_height"));
   } catch (const cv::Exception& e) {
     throw InputError(path + ": malformed camera file (" + e.err + ")");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": malformed camera file (" + e.what() + ")");
   }
   if (K.rows != 3 || K.cols != 3)
     throw InputError(path + ": key 'camera_matrix' must be a 3x3 matrix");

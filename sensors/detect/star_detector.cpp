@@ -126,6 +126,23 @@ std::unique_ptr<StarDetector> StarDetector::create(const DetectorOptions& opts, 
   return std::make_unique<StarDetector>(opts);
 }
 
+namespace {
+/// The grey view of `image` with the dark frame subtracted (saturating: never below 0), the
+/// same for full frames and windows: a warm pixel is not a star in either.
+bool darkSubtractedGrey(const cv::Mat& image, const DetectorOptions& opts, Scratch& s,
+                        cv::Mat& grey, std::string& why) {
+  if (!greyView(image, s.converted, grey, why)) return false;
+  if (opts.dark_frame.empty()) return true;
+  if (opts.dark_frame.size() != grey.size() || opts.dark_frame.type() != grey.type()) {
+    why = "dark frame size/type differs from the image";
+    return false;
+  }
+  cv::subtract(grey, opts.dark_frame, s.dark_subtracted);
+  grey = s.dark_subtracted;
+  return true;
+}
+}  // namespace
+
 StarDetector::~StarDetector() = default;
 StarDetector::StarDetector(StarDetector&&) noexcept = default;
 StarDetector& StarDetector::operator=(StarDetector&&) noexcept = default;
@@ -134,16 +151,10 @@ void StarDetector::detect(const cv::Mat& image, DetectionResult& res) {
   Scratch& s = *scratch_;
   cv::Mat grey;  // a header: the caller's pixels, or the scratch conversion of colour
   std::string why;
-  if (!greyView(image, s.converted, grey, why) ||
-      (!opts_.dark_frame.empty() &&
-       (opts_.dark_frame.size() != grey.size() || opts_.dark_frame.type() != grey.type()))) {
+  if (!darkSubtractedGrey(image, opts_, s, grey, why)) {
     res = DetectionResult();
-    res.reason = why.empty() ? "dark frame size/type differs from the image" : why;
+    res.reason = why;
     return;
-  }
-  if (!opts_.dark_frame.empty()) {
-    cv::subtract(grey, opts_.dark_frame, s.dark_subtracted);  // saturating: never below 0
-    grey = s.dark_subtracted;
   }
   detectFrame(grey, opts_, *main_, *cog_, s, res);
 }
@@ -165,7 +176,7 @@ void StarDetector::centroidWindows(const cv::Mat& image,
   }
   cv::Mat grey;
   std::string why;
-  if (!greyView(image, s.converted, grey, why)) {
+  if (!darkSubtractedGrey(image, opts_, s, grey, why)) {
     for (auto& w : out) w.reason = why;
     return;
   }
