@@ -4,6 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <string>
 
 #include "common/attitude.hpp"
@@ -14,6 +16,28 @@ namespace st::test {
 
 inline std::string tetra3Frame(const std::string& name = "2019-07-29T204726_Alt40_Azi-135_Try1") {
   return tetra3ImageDir() + "/" + name + ".tiff";
+}
+
+/// The focal length [px] `solve` fits on the eight tetra3 frames without a camera file.
+constexpr double kTetra3ExactFx = 5117.7;
+
+/// A camera file for the tetra3 frames as a datasheet gives it: OpenCV YAML, focal length
+/// `rel_error` off kTetra3ExactFx, principal point at the centre, no distortion.
+inline std::string writeTetra3Camera(const std::string& path, double rel_error) {
+  const double f = kTetra3ExactFx * (1 + rel_error);
+  std::ofstream(path) << "%YAML:1.0\n---\nimage_width: 1024\nimage_height: 768\n"
+                      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                      << "   data: [ " << f << ", 0., 511.5, 0., " << f << ", 383.5, 0., 0., 1. ]\n"
+                      << "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n"
+                      << "   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n";
+  return path;
+}
+
+/// gtest parameter names of relative focal errors: -0.02 -> "minus20permille".
+inline std::string permilleName(double rel) {
+  const int permille = static_cast<int>(std::lround(rel * 1000));
+  return std::string(permille < 0 ? "minus" : "plus") + std::to_string(std::abs(permille)) +
+         "permille";
 }
 
 /// Single-quoted for the shell (a ' inside becomes '\'').

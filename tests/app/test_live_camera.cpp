@@ -25,19 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The focal length solve fits on these frames without a camera file (as CameraHeal).
-constexpr double kExactFx = 5117.7;
-
-std::string writeCamera(const std::string& path, double rel_error) {
-  const double f = kExactFx * (1 + rel_error);
-  std::ofstream(path) << "%YAML:1.0\n---\nimage_width: 1024\nimage_height: 768\n"
-                      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                      << "   data: [ " << f << ", 0., 511.5, 0., " << f << ", 383.5, 0., 0., 1. ]\n"
-                      << "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n"
-                      << "   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n";
-  return path;
-}
-
 /// The database of both the live run and the reference solves (one epoch, one frame).
 const std::string& database() {
   static const std::string db = [] {
@@ -55,7 +42,7 @@ const std::string& database() {
 const std::vector<Quat>& referenceAttitudes() {
   static const std::vector<Quat> refs = [] {
     const std::string dir = test::makeTempDir("live_camera_ref");
-    const std::string cam = writeCamera(dir + "/exact.yaml", 0);
+    const std::string cam = test::writeTetra3Camera(dir + "/exact.yaml", 0);
     std::vector<Quat> out;
     for (const std::string& f : test::tetra3Frames()) {
       const auto r = test::solveJson("--database " + database() + " --camera " + cam + " " +
@@ -81,7 +68,7 @@ TEST_P(LiveCameraFolder, EveryRealFrameSolvedNearSolveAndTheCameraReported) {
     const std::string name = (k < 10 ? "/frames/frame_0" : "/frames/frame_") + std::to_string(k);
     fs::create_symlink(frames[k], dir + name + ".tiff");
   }
-  writeCamera(dir + "/frames/cam.yaml", err);
+  test::writeTetra3Camera(dir + "/frames/cam.yaml", err);
   // The shipped example, pointed at this folder and database.
   std::ifstream example(test::repoDir() + "/rawlogs/live_camera_image_dir.ini");
   std::stringstream text;
@@ -158,11 +145,7 @@ TEST(LiveCameraExamples, EveryExamplePassesTheStrictCheck) {
 
 INSTANTIATE_TEST_SUITE_P(FocalErrors, LiveCameraFolder,
                          ::testing::Values(-0.02, -0.005, 0.0, 0.005, 0.02),
-                         [](const auto& info) {
-                           const int permille = static_cast<int>(std::lround(info.param * 1000));
-                           return std::string(permille < 0 ? "minus" : "plus") +
-                                  std::to_string(std::abs(permille)) + "permille";
-                         });
+                         [](const auto& info) { return test::permilleName(info.param); });
 
 }  // namespace
 }  // namespace st

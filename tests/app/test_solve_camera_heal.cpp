@@ -12,18 +12,8 @@
 namespace st {
 namespace {
 
-// The focal length solve fits on these frames without a camera file ("solve --fov-deg").
-constexpr double kExactFx = 5117.7;
-
 std::string writeCamera(const std::string& dir, double rel_error) {
-  const double f = kExactFx * (1 + rel_error);
-  const std::string path = dir + "/cam_" + std::to_string(rel_error) + ".yaml";
-  std::ofstream(path) << "%YAML:1.0\n---\nimage_width: 1024\nimage_height: 768\n"
-                      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                      << "   data: [ " << f << ", 0., 511.5, 0., " << f << ", 383.5, 0., 0., 1. ]\n"
-                      << "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n"
-                      << "   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n";
-  return path;
+  return test::writeTetra3Camera(dir + "/cam_" + std::to_string(rel_error) + ".yaml", rel_error);
 }
 
 class CameraHeal : public ::testing::TestWithParam<double> {};
@@ -51,16 +41,12 @@ TEST_P(CameraHeal, EveryFrameSolvesNearTheExactCameraAndTheErrorIsNamed) {
     EXPECT_NE(d.find(err > 0 ? "shorter than" : "longer than"), std::string::npos) << d;
     // The fitted focal length is the exact one to within what the lens's distortion trades
     // with it (k1 is fitted with it; 0.2 % covers the frames' spread).
-    EXPECT_NEAR(run.json.at("camera").at("fit").at("fx").get<double>() / kExactFx, 1.0, 0.002);
+    EXPECT_NEAR(run.json.at("camera").at("fit").at("fx").get<double>() / test::kTetra3ExactFx, 1.0, 0.002);
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(FocalErrors, CameraHeal, ::testing::Values(-0.02, -0.005, 0.005, 0.02),
-                         [](const auto& info) {
-                           const int permille = static_cast<int>(std::lround(info.param * 1000));
-                           return std::string(permille < 0 ? "minus" : "plus") +
-                                  std::to_string(std::abs(permille)) + "permille";
-                         });
+                         [](const auto& info) { return test::permilleName(info.param); });
 
 }  // namespace
 }  // namespace st

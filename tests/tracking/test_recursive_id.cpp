@@ -9,18 +9,13 @@
 #include "common/conventions.hpp"
 #include "sensors/identify/recursive_id.hpp"
 #include "sensors/sim/motion.hpp"
+#include "tests/tracking/recursive_id_scene.hpp"
 #include "tests/tracking/tracker_sim.hpp"
 
 namespace st {
 namespace {
 
-RecursiveIdOptions options() {
-  const TrackerOptions t = test::simTrackerOptions();
-  RecursiveIdOptions o;
-  o.detect = t.detect;
-  o.exposure_s = t.exposure_s;
-  return o;
-}
+using namespace test::recursive_id;
 
 CameraPrediction predictionAt(const Quat& q_ic, double sigma_rad) {
   CameraPrediction p;
@@ -29,19 +24,6 @@ CameraPrediction predictionAt(const Quat& q_ic, double sigma_rad) {
   return p;
 }
 
-struct Scene {
-  test::FrameSimulator::Frame frame;
-  Quat q_ic;
-};
-
-Scene scene() {
-  const HoldMotion hold(attitudeFromRaDecRoll({deg2rad(83.0), deg2rad(-1.0), deg2rad(20.0)}));
-  test::FrameSimulator sim(11);
-  Scene s;
-  s.frame = sim.frame(hold, 0.0);
-  s.q_ic = s.frame.q_ib;  // camera = body
-  return s;
-}
 
 TEST(RecursiveId, ATruePredictionNamesEveryGatedStarRight) {
   const Scene s = scene();

@@ -17,32 +17,14 @@
 #include "sensors/camera/jacobians.hpp"
 #include "sensors/identify/recursive_id.hpp"
 #include "sensors/sim/motion.hpp"
+#include "tests/tracking/recursive_id_scene.hpp"
 #include "tests/tracking/tracker_sim.hpp"
 
 namespace st {
 namespace {
 
-RecursiveIdOptions options() {
-  const TrackerOptions t = test::simTrackerOptions();
-  RecursiveIdOptions o;
-  o.detect = t.detect;
-  o.exposure_s = t.exposure_s;
-  return o;
-}
+using namespace test::recursive_id;
 
-struct Scene {
-  test::FrameSimulator::Frame frame;
-  Quat q_ic;
-};
-
-Scene scene() {
-  const HoldMotion hold(attitudeFromRaDecRoll({deg2rad(83.0), deg2rad(-1.0), deg2rad(20.0)}));
-  test::FrameSimulator sim(11);
-  Scene s;
-  s.frame = sim.frame(hold, 0.0);
-  s.q_ic = s.frame.q_ib;  // camera = body
-  return s;
-}
 
 // A prediction off the truth by `offset_rad` about the camera's x axis (every star moves
 // ~f * offset along y) whose covariance says sigma_rad about x and y and nothing about the
