@@ -101,9 +101,9 @@ mutant drop-saturated-min-stars sensors/identify/recursive_id.cpp \
   "drop_saturated keeps saturated stars when fewer than min_stars others remain"
 DT=st_test_detect
 mutant dark-frame sensors/detect/star_detector.cpp \
-  's/cv::subtract\(grey, opts_.dark_frame, s.dark_subtracted\);/s.dark_subtracted = grey;/' \
+  's/cv::subtract\(grey, opts.dark_frame, s.dark_subtracted\);/s.dark_subtracted = grey;/' \
   $DT 'DetectRules.*' \
-  "dark-frame subtraction before detection"
+  "dark-frame subtraction before detection (full frame and tracking windows)"
 APP=startracker
 mutant mc-star-count-lt3 app/montecarlo/exp_star_count.cpp \
   's/return x < 3; \}/return x <= 3; }/' \
@@ -282,9 +282,9 @@ solver registered by the test records the pairs of the first solve of the search
 - Liebe's rim rule does not make the first hypothesis more often right (100/94/72 right with
   it, 99/94/84 without, at 0.1/0.3/0.5 px), because the catalog side registers every pair
   among four neighbours and so already survives a missing neighbour.
-- The tracking windows (`StarDetector::centroidWindows`) ignore `DetectorOptions::dark_frame`:
-  only full-frame detection subtracts it (`DetectRules.DISABLED_WindowsSubtractTheDarkFrameToo`
-  records it).
+- The tracking windows (`StarDetector::centroidWindows`) ignored `DetectorOptions::dark_frame`
+  (only full-frame detection subtracted it); fixed since, with
+  `DetectRules.WindowsSubtractTheDarkFrameToo`.
 EOF
   } >"$MD"
   echo "wrote $MD"
