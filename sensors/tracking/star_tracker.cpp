@@ -105,6 +105,16 @@ void StarTracker::learnCamera(const Quat& q_ic, FrameStars stars, FrameResult& o
   }
 }
 
+void StarTracker::acceptLostInSpace(const std::optional<Vec3>& rate_cam, CameraFix& fix,
+                                    FrameResult& out) {
+  predictor_.correctForAcceleration(rate_cam, fix);
+  setAttitude(out, fix);
+  out.mode = StarTrackerMode::kLostInSpace;
+  failed_frames_ = 0;
+  lost_ = false;
+  predictor_.addLostInSpaceFix(fix);
+}
+
 void StarTracker::setAttitude(FrameResult& out, const CameraFix& fix) const {
   // q_ib = q_ic (x) q_cb; dtheta_body = R_bc dtheta_cam.
   out.q_ib = canonical(fix.q_ic * Quat(R_bc_.transpose()));
@@ -151,11 +161,7 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
       reset();
       out = FrameResult{};
       if (lostInSpace(image, rate_cam, out, fix)) {
-        predictor_.correctForAcceleration(rate_cam, fix);
-        setAttitude(out, fix);
-        out.mode = StarTrackerMode::kLostInSpace;
-        lost_ = false;
-        predictor_.addLostInSpaceFix(fix);
+        acceptLostInSpace(rate_cam, fix, out);
       } else {
         reset();
       }
@@ -169,12 +175,7 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
   } else if (lostInSpace(image, rate_cam, out, fix)) {
     // No usable prediction: lost-in-space. The previous fix stays as the rate partner only if
     // it is recent enough to be the frame before.
-    predictor_.correctForAcceleration(rate_cam, fix);
-    setAttitude(out, fix);
-    out.mode = StarTrackerMode::kLostInSpace;
-    failed_frames_ = 0;
-    lost_ = false;
-    predictor_.addLostInSpaceFix(fix);
+    acceptLostInSpace(rate_cam, fix, out);
   } else {
     reset();
   }

@@ -100,6 +100,8 @@ class StarTracker {
   void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                         std::vector<Centroid>& stars);
   void setAttitude(FrameResult& out, const CameraFix& fix) const;
+  /// A lost-in-space fix becomes the frame's answer and the predictor's new start.
+  void acceptLostInSpace(const std::optional<Vec3>& rate_cam, CameraFix& fix, FrameResult& out);
   /// A verified frame's stars into the online camera fit; adopts its result.
   void learnCamera(const Quat& q_ic, FrameStars stars, FrameResult& out);
   void useCamera(const CameraModel& camera, double model_error_px);
