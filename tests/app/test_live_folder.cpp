@@ -119,5 +119,31 @@ truth_label   = GROUND_TRUTH
   EXPECT_TRUE(in_band) << report << "\n" << out;
 }
 
+// The recording's clock is checked before any sensor starts: each bad value exits 2 naming
+// the section and key.
+TEST(LiveSimulatedFolder, BadFrameClockKeysExit2NamingTheKey) {
+  const std::string dir = test::makeTempDir("live_folder_bad");
+  test::runCommand("'" + test::startrackerExe() + "' camera -q --fov-deg 15 --size 512 512 --save '" +
+                   dir + "/cam.yaml'");
+  const std::pair<std::string, std::string> cases[] = {
+      {"frame_rate_hz = -1", "frame_rate_hz"},
+      {"frame_rate_hz = 10\nframe_start_time = yesterday", "frame_start_time"},
+      {"frame_start_time = 2025-03-20T00:00:00", "frame_start_time"},  // without a rate
+  };
+  for (const auto& [keys, named] : cases) {
+    std::ofstream(dir + "/bad.ini") << "[T]\ndriver = CStarTrackerSensor\nprocess_rate = 10\n"
+                                       "image_source = camera\ncamera_file = cam.yaml\n"
+                                    << keys
+                                    << "\ngrabber_type = image_dir\nimage_dir_url = .\n"
+                                       "left_format = f_%d.png\n";
+    std::string out;
+    const int rc = test::runCommand("cd '" + dir + "' && '" + test::startrackerExe() +
+                                        "' live bad.ini -o out.rawlog --duration 1 2>&1",
+                                    &out);
+    EXPECT_EQ(rc, 2) << keys << ": " << out;
+    EXPECT_THAT(out, ::testing::HasSubstr("'T' key '" + named + "'")) << keys << ": " << out;
+  }
+}
+
 }  // namespace
 }  // namespace st
