@@ -124,7 +124,7 @@ class LiveSession {
       CStarTrackerSensor* t = trackers_.front();
       NavigatorOptions o = nav_opts_;
       o.star_tracker_label = t->getSensorLabel();
-      nav_ = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o);
+      nav_ = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o, args_.csv);
       recorder_.setNavigator(nav_.get());
       LiveNavigator* nav = nav_.get();
       t->setInputsProvider([nav](mrpt::Clock::time_point when) { return nav->frameInputs(when); });
@@ -219,13 +219,9 @@ class LiveSession {
                   replay_config_.c_str());
     }
     for (const auto& w : nav_->warnings()) log::warn("%s", w.c_str());
-    const std::vector<NavStep> steps = nav_->steps();
-    printNavigationSummary(steps, stdout);
-    printIntegritySummary(steps, stdout);
-    if (!args_.csv.empty()) {
-      const int rows = writeNavStepCsv(steps, args_.csv);
+    nav_->printSummaries(stdout);
+    if (const int rows = nav_->finishCsv(); rows >= 0)
       std::printf("csv: %s (%d rows)\n", args_.csv.c_str(), rows);
-    }
   }
 
  private:

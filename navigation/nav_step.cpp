@@ -83,18 +83,27 @@ std::string navStepCsvRow(const NavStep& s) {
   return o.str();
 }
 
+NavStepCsvWriter::NavStepCsvWriter(const std::string& path) : path_(path), f_(path) {
+  if (!f_) throw InputError(path + ": cannot write the CSV");
+  f_ << navStepCsvHeader() << '\n';
+}
+
+void NavStepCsvWriter::write(const NavStep& s) {
+  if (!s.has_frame) return;
+  f_ << navStepCsvRow(s) << '\n';
+  ++rows_;
+}
+
+int NavStepCsvWriter::finish() {
+  f_.flush();
+  if (!f_) throw InputError(path_ + ": write failed");
+  return rows_;
+}
+
 int writeNavStepCsv(const std::vector<NavStep>& steps, const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw InputError(path + ": cannot write the CSV");
-  f << navStepCsvHeader() << '\n';
-  int rows = 0;
-  for (const NavStep& s : steps) {
-    if (!s.has_frame) continue;
-    f << navStepCsvRow(s) << '\n';
-    ++rows;
-  }
-  if (!f) throw InputError(path + ": write failed");
-  return rows;
+  NavStepCsvWriter w(path);
+  for (const NavStep& s : steps) w.write(s);
+  return w.finish();
 }
 
 }  // namespace st

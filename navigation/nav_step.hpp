@@ -5,6 +5,7 @@
 #pragma once
 #include <mrpt/core/Clock.h>
 
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,20 @@ void fillFilterState(NavStep& s, const FilterState& f);
 /// fix's columns (fix_*) on a frame without a fix or, for errors, without truth.
 std::string navStepCsvHeader();
 std::string navStepCsvRow(const NavStep& s);
+/// The CSV written as the steps come (live): the header at once, one row per step with a
+/// frame. Throws InputError naming the file when it cannot be written.
+class NavStepCsvWriter {
+ public:
+  explicit NavStepCsvWriter(const std::string& path);
+  void write(const NavStep& s);
+  /// Flushes and checks the stream; returns the rows written.
+  int finish();
+
+ private:
+  std::string path_;
+  std::ofstream f_;
+  int rows_ = 0;
+};
 /// Writes the header and one row per step with a frame; returns the rows written. Throws
 /// InputError naming the file when it cannot be written.
 int writeNavStepCsv(const std::vector<NavStep>& steps, const std::string& path);

@@ -3,14 +3,48 @@
 /// attitude errors (cross-boresight, roll, filter vs raw fixes), NEES of the filter and of the
 /// raw fixes, identification errors. Prints nothing without truth. A run without a filter (no
 /// step holds a filter state: no gyro) is scored on its raw fixes, with no filter NEES.
+///
+/// Accumulated step by step in fixed memory (RMS, max and chi-square fractions exact;
+/// percentiles from a 1 % log histogram, common/log_histogram.hpp), so that a live run of any
+/// length keeps no per-step record for it.
 #pragma once
 #include <cstdio>
 #include <vector>
 
+#include "common/log_histogram.hpp"
 #include "navigation/nav_step.hpp"
 
 namespace st {
 
+class RunSummary {
+ public:
+  void add(const NavStep& s);
+  void print(std::FILE* out) const;
+
+ private:
+  /// One error or NEES series: exact count, RMS, mean, max; quantiles to 0.5 %.
+  struct Series {
+    LogHistogram h;
+    double sum = 0, sum_sq = 0;
+    uint64_t below_q50 = 0, below_q95 = 0;  // NEES: values <= the chi2(3) median / 95 % point
+    void add(double v);
+    uint64_t n() const { return h.count(); }
+    bool empty() const { return n() == 0; }
+    double rms() const;
+    double mean() const;
+  };
+  /// The same run scored two ways until the end says whether a filter ran: its estimates
+  /// (filtered) or the raw fixes (no step held a filter state).
+  struct Scored {
+    Series cross, roll, fix_err, fix_nees;
+  };
+  bool filtered_ = false;
+  Scored filt_, raw_;
+  Series nees_, filt_err_, unfiltered_err_;
+  long matched_with_truth_ = 0, misidentified_ = 0, blend_claims_ = 0, unscored_ = 0;
+};
+
+/// The summary of a whole run's steps (replay).
 void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out);
 
 }  // namespace st

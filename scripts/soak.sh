@@ -43,8 +43,10 @@ fi
 command -v gnuplot >/dev/null || { echo "soak.sh: gnuplot missing (scripts/install-deps.sh)" >&2; exit 2; }
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
-# A copy: a rebuild during an hour-long run must not replace the program under it.
+# A copy: a rebuild during an hour-long run must not replace the program under it. The
+# launcher execs startracker-cli from its own folder: copy both.
 cp "$st" "$out/startracker"
+cp "$(dirname "$st")/startracker-cli" "$out/startracker-cli"
 st="$out/startracker"
 summary="$out/soak_summary.txt"
 : >"$summary"

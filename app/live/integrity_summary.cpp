@@ -26,59 +26,62 @@ bool taken(FixUse u) {
 
 }  // namespace
 
-IntegrityStats integrityStats(const std::vector<NavStep>& steps) {
-  IntegrityStats s;
-  double last_used = -1, last_estimate = -1;
+void IntegrityAccumulator::add(const NavStep& st) {
+  IntegrityStats& s = s_;
   const auto wrong = [&s](double t) {
     if (s.first_wrong_t < 0) s.first_wrong_t = t;
   };
-  for (const NavStep& st : steps) {
-    // The filter's estimate is an output at every step, a truth marker between frames too
-    // (a camera outage coasted on the gyro).
-    if (st.initialized) {
-      if (last_estimate >= 0 && st.t - last_estimate > s.longest_no_estimate_s) {
-        s.longest_no_estimate_s = st.t - last_estimate;
-        s.no_estimate_from_s = last_estimate;
-        s.no_estimate_to_s = st.t;
-      }
-      last_estimate = st.t;
+  // The filter's estimate is an output at every step, a truth marker between frames too
+  // (a camera outage coasted on the gyro).
+  if (st.initialized) {
+    if (last_estimate_ >= 0 && st.t - last_estimate_ > s.longest_no_estimate_s) {
+      s.longest_no_estimate_s = st.t - last_estimate_;
+      s.no_estimate_from_s = last_estimate_;
+      s.no_estimate_to_s = st.t;
     }
-    if (st.has_truth && st.initialized) {
-      ++s.filter_steps;
-      if (outsideBound(st.error.rotvec_body, st.P_att)) {
-        ++s.wrong_filter_steps;
-        wrong(st.t);
-      }
-    }
-    if (!st.has_frame) continue;
-    if (st.fix && taken(st.use)) {
-      if (last_used >= 0 && st.t - last_used > s.longest_outage_s) {
-        s.longest_outage_s = st.t - last_used;
-        s.outage_from_s = last_used;
-        s.outage_to_s = st.t;
-      }
-      last_used = st.t;
-    }
-    if (!st.has_truth) continue;
-    if (st.fix) {
-      ++s.fixes;
-      const bool bad = outsideBound(st.fix_error.rotvec_body, st.cov_fix);
-      if (taken(st.use)) {
-        ++s.used_fixes;
-        if (bad) {
-          ++s.wrong_used_fixes;
-          wrong(st.t);
-        }
-      } else if (bad) {
-        ++s.wrong_refused_fixes;
-      }
+    last_estimate_ = st.t;
+  }
+  if (st.has_truth && st.initialized) {
+    ++s.filter_steps;
+    if (outsideBound(st.error.rotvec_body, st.P_att)) {
+      ++s.wrong_filter_steps;
+      wrong(st.t);
     }
   }
-  return s;
+  if (!st.has_frame) return;
+  if (st.fix && taken(st.use)) {
+    if (last_used_ >= 0 && st.t - last_used_ > s.longest_outage_s) {
+      s.longest_outage_s = st.t - last_used_;
+      s.outage_from_s = last_used_;
+      s.outage_to_s = st.t;
+    }
+    last_used_ = st.t;
+  }
+  if (!st.has_truth || !st.fix) return;
+  ++s.fixes;
+  const bool bad = outsideBound(st.fix_error.rotvec_body, st.cov_fix);
+  if (taken(st.use)) {
+    ++s.used_fixes;
+    if (bad) {
+      ++s.wrong_used_fixes;
+      wrong(st.t);
+    }
+  } else if (bad) {
+    ++s.wrong_refused_fixes;
+  }
+}
+
+IntegrityStats integrityStats(const std::vector<NavStep>& steps) {
+  IntegrityAccumulator a;
+  for (const NavStep& st : steps) a.add(st);
+  return a.stats();
 }
 
 void printIntegritySummary(const std::vector<NavStep>& steps, std::FILE* out) {
-  const IntegrityStats s = integrityStats(steps);
+  printIntegritySummary(integrityStats(steps), out);
+}
+
+void printIntegritySummary(const IntegrityStats& s, std::FILE* out) {
   if (s.fixes == 0 && s.filter_steps == 0) return;
   std::fprintf(out,
                "integrity (vs GROUND_TRUTH, wrong = beyond %.0f sigma + %.0f\" on an axis): "

@@ -37,8 +37,20 @@ struct IntegrityStats {
   double no_estimate_from_s = 0, no_estimate_to_s = 0;
 };
 
+/// The stats accumulated step by step, in fixed memory (a live run of any length).
+class IntegrityAccumulator {
+ public:
+  void add(const NavStep& st);
+  const IntegrityStats& stats() const { return s_; }
+
+ private:
+  IntegrityStats s_;
+  double last_used_ = -1, last_estimate_ = -1;
+};
+
 IntegrityStats integrityStats(const std::vector<NavStep>& steps);
 /// "integrity: ..." lines (tests and scripts parse them).
+void printIntegritySummary(const IntegrityStats& s, std::FILE* out);
 void printIntegritySummary(const std::vector<NavStep>& steps, std::FILE* out);
 
 }  // namespace st::app

@@ -8,9 +8,16 @@
 namespace st::app {
 
 LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
-                             NavigatorOptions options)
+                             NavigatorOptions options, const std::string& csv_path)
     : nav_(db, camera, std::move(options), Navigator::Source::kStarTrackerFixes) {
+  if (!csv_path.empty()) csv_ = std::make_unique<NavStepCsvWriter>(csv_path);
+  // Each step is summarised and written as it finishes, then dropped: the navigator keeps
+  // none (a one-hour run kept ~1 KB per frame of them, the memory growth of the soak).
+  nav_.setKeepSteps(false);
   nav_.setStepCallback([this](const NavStep& s, const CObservationStarTracker::Ptr&) {
+    summary_.add(s);
+    integrity_.add(s);
+    if (csv_) csv_->write(s);
     if (!s.has_frame || !s.fix) return;
     ++stats_.fixes;
     stats_.accepted += s.use == FixUse::kAccepted;
@@ -117,9 +124,15 @@ LiveNavigator::Stats LiveNavigator::stats() const {
   return s;
 }
 
-std::vector<NavStep> LiveNavigator::steps() const {
+void LiveNavigator::printSummaries(std::FILE* out) const {
   std::lock_guard<std::mutex> lock(m_);
-  return nav_.steps();
+  summary_.print(out);
+  printIntegritySummary(integrity_.stats(), out);
+}
+
+int LiveNavigator::finishCsv() {
+  std::lock_guard<std::mutex> lock(m_);
+  return csv_ ? csv_->finish() : -1;
 }
 
 std::vector<std::string> LiveNavigator::warnings() const {

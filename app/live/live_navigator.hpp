@@ -26,14 +26,18 @@
 #include <optional>
 #include <vector>
 
+#include "app/live/integrity_summary.hpp"
 #include "navigation/navigator.hpp"
+#include "navigation/run_summary.hpp"
 
 namespace st::app {
 
 class LiveNavigator {
  public:
   /// The database and camera of the star tracker sensor; they must outlive this object.
-  LiveNavigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options);
+  /// `csv_path`: the steps' CSV, written as they finish (empty: none).
+  LiveNavigator(const StarDatabase& db, const CameraModel& camera, NavigatorOptions options,
+                const std::string& csv_path = "");
 
   /// One batch as the sensors delivered it, in time order (a frame's fix and its truth come
   /// together: a waiting tracker never sees one without the other).
@@ -51,8 +55,11 @@ class LiveNavigator {
     int off_schedule = 0;  ///< frames asked before everything earlier was in (timed out)
   };
   Stats stats() const;
-  /// Every step so far (for the summary after the run).
-  std::vector<NavStep> steps() const;
+  /// The run's navigation and integrity summaries (after flush()). No step is kept for them:
+  /// they are accumulated in fixed memory, so a run of any length does not grow.
+  void printSummaries(std::FILE* out) const;
+  /// Closes the CSV; returns its rows (-1 without one).
+  int finishCsv();
   std::vector<std::string> warnings() const;
 
  private:
@@ -63,6 +70,9 @@ class LiveNavigator {
   std::condition_variable arrived_;
   Navigator nav_;
   Stats stats_;
+  RunSummary summary_;
+  IntegrityAccumulator integrity_;
+  std::unique_ptr<NavStepCsvWriter> csv_;
   std::optional<mrpt::Clock::time_point> newest_gyro_, newest_fix_, last_asked_;
   bool gyro_stalled_ = false, stopping_ = false;
   bool started_ = false;
