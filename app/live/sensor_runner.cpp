@@ -94,7 +94,12 @@ std::vector<SensorSpec> createSensors(const mrpt::config::CConfigFileBase& cfg,
     try {
       spec.sensor->loadConfig(cfg, s);
     } catch (const std::exception& e) {
-      throw InputError(source + ": section '" + s + "' (" + spec.driver + "): " + usefulMessage(e, s));
+      // A message that names the section already is not prefixed with it a second time.
+      const std::string why = usefulMessage(e, s);
+      const std::string named = "section '" + s + "'";
+      throw InputError(source + ": " +
+                       (why.rfind(named, 0) == 0 ? "(" + spec.driver + ") " + why
+                                                 : named + " (" + spec.driver + "): " + why));
     }
     if (!(spec.sensor->getProcessRate() > 0)) {
       throw InputError(source + ": section '" + s + "' key 'process_rate': must be > 0");
