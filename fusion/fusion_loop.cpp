@@ -178,7 +178,7 @@ void FusionLoop::refuseFrame(Event& e) {
   if (e.fix) refused = std::move(*e.fix);  // a live fix keeps what it claimed
   if (!refused.hasAttitude()) {
     refused.mode = StarTrackerMode::kFailed;
-    refused.failure = FrameFailure::kNoImage;
+    refused.failure = FrameFailure::kClockRefused;
   }
   refused.detail = e.refused;
   FusionStep s;

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
@@ -29,25 +28,6 @@ FusionOptions validatedFusion(const NavigatorOptions& o) {
   std::string why;
   if (!o.isValid(&why)) throw InputError("navigator option " + why);
   return withCameraMounting(o.fusion, o.pipeline);
-}
-
-/// FNV-1a over the pixel bytes, row by row (a view may have gaps between rows).
-uint64_t imageHash(const cv::Mat& m) {
-  uint64_t h = 1469598103934665603ull;
-  const std::size_t row_bytes = static_cast<std::size_t>(m.cols) * m.elemSize();
-  for (int r = 0; r < m.rows; ++r) {
-    const uint8_t* p = m.ptr<uint8_t>(r);
-    for (std::size_t i = 0; i < row_bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  }
-  return h;
-}
-
-bool sameImage(const cv::Mat& a, const cv::Mat& b) {
-  if (a.size() != b.size() || a.type() != b.type()) return false;
-  const std::size_t row_bytes = static_cast<std::size_t>(a.cols) * a.elemSize();
-  for (int r = 0; r < a.rows; ++r)
-    if (std::memcmp(a.ptr(r), b.ptr(r), row_bytes) != 0) return false;
-  return true;
 }
 
 /// Catalog id -> inertial direction, for star-vector updates (sorted ids, binary search).
@@ -197,22 +177,12 @@ FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& i
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
     image = grey;
   }
-  const uint64_t hash = imageHash(image);
-  if (!last_image_.empty() && hash == last_hash_ && sameImage(image, last_image_)) {
-    // Not new: a camera repeating its readout. Its stars would give the old attitude at the
-    // new time. The previous image stays the reference: a run of repeats all fail.
-    ++frozen_frames_;
-    char b[120];
-    std::snprintf(b, sizeof b, "frozen image: identical to the frame at %s",
-                  formatLoopTime(last_image_t_).c_str());
-    if (io.image.isExternallyStored()) io.image.unload();
-    return skipped(b);
-  }
-  last_image_ = image;  // a reference: the pixels are kept, not copied
-  last_hash_ = hash;
-  last_image_t_ = t;
   FrameResult r = tracker_->process(image, t, in);
   if (io.image.isExternallyStored()) io.image.unload();
+  if (r.failure == FrameFailure::kFrozenImage) {
+    ++frozen_frames_;
+    warn("CAMERA observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
+  }
   frame_obs_ = observationOf(r, io.timestamp);
   return r;
 }

@@ -5,9 +5,9 @@
 /// (with the star tracker's observation for the output rawlog).
 ///   GYRO (CObservationIMU)              -> FusionLoop::pushGyro;
 /// A CAMERA image identical to the previous one (a stuck readout: a sensor repeats noise
-/// bit for bit only when it repeats its image) is not processed as new: its frame fails with
-/// the reason, and the filter coasts on the gyro across it. Cheap: a 64-bit hash of the
-/// pixels, then a full comparison only when the hashes are equal.
+/// bit for bit only when it repeats its image) is refused by the star tracker itself
+/// (sensors/tracking/frozen_frame.hpp, FrameFailure::kFrozenImage, so the live sensor does
+/// the same); the navigator counts it and warns, and the filter coasts on the gyro across it.
 ///   CAMERA (CObservationImage)          -> FusionLoop::pushFrame: the navigator's own star
 ///                                          tracker processes it with the loop's inputs
 ///                                          (replay; Source::kCameraFrames);
@@ -125,9 +125,6 @@ class Navigator {
   uint64_t next_tag_ = 0;
   std::map<uint64_t, mrpt::obs::CObservation::Ptr> held_;  // until their step
   CObservationStarTracker::Ptr frame_obs_;  // the observation of the frame being processed
-  cv::Mat last_image_;  // the previous frame's pixels (shared, not copied) and their hash
-  uint64_t last_hash_ = 0;
-  double last_image_t_ = 0;
   int frozen_frames_ = 0;
 
   std::optional<NavStep> pending_;  // a frame step waiting for a truth at the same time

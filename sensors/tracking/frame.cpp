@@ -40,6 +40,10 @@ const char* toString(FrameFailure f) {
       return "unknown";
     case FrameFailure::kNoImage:
       return "no-image";
+    case FrameFailure::kFrozenImage:
+      return "frozen-image";
+    case FrameFailure::kClockRefused:
+      return "clock-refused";
   }
   return "unknown";
 }

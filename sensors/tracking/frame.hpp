@@ -61,7 +61,9 @@ enum class FrameFailure : uint8_t {
   kInconsistentPrediction,///< tracking: the solution contradicts the prediction
   kUnknown,               ///< a failure whose kind was not recorded (old rawlogs)
   kNoImage,               ///< the frame's image could not be loaded or was empty
-  kLast = kNoImage,       ///< the largest value (serialization range check)
+  kFrozenImage,           ///< the image repeats the previous one pixel for pixel
+  kClockRefused,          ///< stamped ahead of the gyro's timeline: cannot have been taken yet
+  kLast = kClockRefused,  ///< the largest value (serialization range check)
 };
 /// A short stable name ("no-match", "too-few-in-gate", ...), for logs and counters.
 const char* toString(FrameFailure f);

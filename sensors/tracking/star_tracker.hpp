@@ -55,6 +55,7 @@
 #include "sensors/identify/recursive_id.hpp"
 #include "sensors/tracking/frame.hpp"
 #include "sensors/tracking/frame_predictor.hpp"
+#include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/online_camera.hpp"
 #include "sensors/tracking/tracker_options.hpp"
 
@@ -123,6 +124,7 @@ class StarTracker {
   OnlineCamera online_;
   double model_error_px_ = 0;
   bool camera_verified_ = false;  // a fix verified with camera_: no more healing searches
+  FrozenFrameCheck frozen_;       // a repeated readout is refused before anything else
 
   // Scratch buffers kept between frames.
   RecursiveIdResult rid_;
