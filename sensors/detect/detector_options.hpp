@@ -14,6 +14,14 @@
 
 namespace st {
 
+/// A master dark named by a file (`startracker dark`): the ini key detect_dark_file reads
+/// the file into `image` when the configuration is read, so a bad file fails there (exit 2)
+/// and not at the first frame; `path` is what the printed configuration shows.
+struct DarkFrameFile {
+  std::string path;  ///< "" = none
+  cv::Mat image;
+};
+
 struct DetectorOptions {
   // --- noise model ---
   double gain_e_per_adu = 1.0;  ///< [e-/ADU] converts signal to shot-noise variance
@@ -25,6 +33,9 @@ struct DetectorOptions {
   int background_tile_px = 128;  ///< tile side for the tiled median/MAD; 0 = one global value
   int background_samples = 256;  ///< pixels sampled per tile (or globally x16): speed vs noise
   cv::Mat dark_frame;            ///< optional dark frame, same size and type, subtracted first
+  DarkFrameFile dark_file;       ///< the dark of the ini key; used when dark_frame is empty
+  /// The dark subtracted: dark_frame when set in code, else the ini key's.
+  const cv::Mat& dark() const { return dark_frame.empty() ? dark_file.image : dark_frame; }
 
   /// Pre-filter of seed 004 §4.1 / §4.2.2, meant for low thresholds (k ~ 1-2):
   ///   "none"; "neighbourhood": keep a candidate pixel if >= prefilter_min_count of the 5x5

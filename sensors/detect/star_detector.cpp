@@ -132,12 +132,13 @@ namespace {
 bool darkSubtractedGrey(const cv::Mat& image, const DetectorOptions& opts, Scratch& s,
                         cv::Mat& grey, std::string& why) {
   if (!greyView(image, s.converted, grey, why)) return false;
-  if (opts.dark_frame.empty()) return true;
-  if (opts.dark_frame.size() != grey.size() || opts.dark_frame.type() != grey.type()) {
+  const cv::Mat& dark = opts.dark();
+  if (dark.empty()) return true;
+  if (dark.size() != grey.size() || dark.type() != grey.type()) {
     why = "dark frame size/type differs from the image";
     return false;
   }
-  cv::subtract(grey, opts.dark_frame, s.dark_subtracted);
+  cv::subtract(grey, dark, s.dark_subtracted);
   grey = s.dark_subtracted;
   return true;
 }
