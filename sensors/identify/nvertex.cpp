@@ -7,6 +7,7 @@
 #include <array>
 #include <string>
 
+#include "common/check.hpp"
 #include "sensors/identify/algorithms.hpp"
 #include "sensors/identify/search_context.hpp"
 
@@ -17,7 +18,9 @@ constexpr int kMaxVertices = 5;
 
 class NVertexIdentifier final : public StarIdentifier {
  public:
-  NVertexIdentifier(const IdentifyOptions& o, int n) : StarIdentifier(o), n_(n) {}
+  NVertexIdentifier(const IdentifyOptions& o, int n) : StarIdentifier(o), n_(n) {
+    ST_ASSERT(n >= 3 && n <= kMaxVertices);
+  }
   std::string name() const override { return n_ == 4 ? "nvertex" : "nvertex" + std::to_string(n_); }
   int minStars() const override { return n_; }
 
@@ -29,8 +32,8 @@ class NVertexIdentifier final : public StarIdentifier {
   /// Returns true when the search must stop (solved or out of budget).
   bool assign(SearchContext& ctx, const Ids& o, Stars& s, int k,
               std::vector<StarMatch>& seeds) const {
-    if (k == n_) {
-      for (int q = 0; q < n_; ++q) seeds[q] = {static_cast<uint32_t>(o[q]), s[q], 0, 0, 0};
+    if (k >= n_ || k >= kMaxVertices) {  // (the second bound for the compiler's sake)
+      for (int q = 0; q < n_ && q < kMaxVertices; ++q) seeds[q] = {static_cast<uint32_t>(o[q]), s[q], 0, 0, 0};
       return ctx.tryHypothesis(seeds) || ctx.done();
     }
     bool stop = false;
@@ -51,14 +54,14 @@ class NVertexIdentifier final : public StarIdentifier {
   bool tryPolygon(SearchContext& ctx, const Ids& o, std::vector<StarMatch>& seeds) const {
     const PairSlice s01 = ctx.slice(o[0], o[1]);
     ctx.addAttitudes(2.0 * s01.size());
-    for (int k = 2; k < n_; ++k) ctx.lists(k - 2).build(ctx.slice(o[0], o[k]));
+    for (int k = 2; k < n_ && k < kMaxVertices; ++k) ctx.lists(k - 2).build(ctx.slice(o[0], o[k]));
     Stars s{};
     for (const StarPair* p = s01.begin; p != s01.end; ++p)
       for (int w = 0; w < 2; ++w) {
         s[0] = w ? p->b : p->a;
         s[1] = w ? p->a : p->b;
         bool in_every_column = true;  // A must be in columns AB, AC, ... of S
-        for (int k = 2; k < n_; ++k) in_every_column = in_every_column && ctx.lists(k - 2).has(s[0]);
+        for (int k = 2; k < n_ && k < kMaxVertices; ++k) in_every_column = in_every_column && ctx.lists(k - 2).has(s[0]);
         if (!in_every_column) continue;
         if (assign(ctx, o, s, 2, seeds)) return true;
       }
@@ -70,12 +73,12 @@ class NVertexIdentifier final : public StarIdentifier {
   /// consecutive polygons as much as it can.
   bool spacings(SearchContext& ctx, std::array<int, kMaxVertices>& d, int level, int used,
                 std::vector<StarMatch>& seeds) const {
-    if (level == n_) {
+    if (level >= n_ || level >= kMaxVertices) {
       for (int i = 0; i + used < ctx.n; ++i) {
         if (ctx.done()) return true;
         Ids o{};
         o[0] = i;
-        for (int q = 1; q < n_; ++q) o[q] = o[q - 1] + d[q];
+        for (int q = 1; q < n_ && q < kMaxVertices; ++q) o[q] = o[q - 1] + d[q];
         if (tryPolygon(ctx, o, seeds)) return true;
       }
       return false;
