@@ -108,6 +108,10 @@ mutant dark-median sensors/detect/dark_frame.cpp \
   's/const auto mid = v.begin\(\) \+ \(n - 1\) \/ 2;/const auto mid = v.begin() + (n - 1);/' \
   $DT 'DarkMedian.*' \
   "seed 004 sec. 4.1: the master dark is the per-pixel median (here: the maximum)"
+mutant dynamic-threshold sensors/detect/star_detector.cpp \
+  's/k_ = std::max\(opts_.dynamic_min_sigma, k_ - opts_.dynamic_step_sigma\);/(void)0;/' \
+  $DT 'DynamicThreshold.*' \
+  "seed 004 sec. 8.2.3: a sparse frame lowers the next frame's threshold"
 APP=startracker
 mutant mc-star-count-lt3 app/montecarlo/exp_star_count.cpp \
   's/return x < 3; \}/return x <= 3; }/' \

@@ -30,6 +30,19 @@ struct DetectorOptions {
 
   // --- background and threshold (seed 004 §4.1) ---
   double threshold_sigma = 5.0;  ///< k: a pixel is a candidate if value > background + k*sigma
+  /// Dynamic thresholding (seed 004 §8.2.3: "automatically set the noise threshold level
+  /// based on the properties of the recent images"): "fixed" keeps threshold_sigma; "dynamic"
+  /// starts there and, after each full-frame detection, lowers k by dynamic_step_sigma when
+  /// fewer than dynamic_target_stars stars were kept ("sparse numbers of stars": dig out
+  /// fainter ones) and raises it when the blobs above the threshold exceed twice that
+  /// ("eliminate potential noise spikes"), within [dynamic_min_sigma, dynamic_max_sigma].
+  /// The per-tile level and sigma already make k local in space; this makes it follow the
+  /// sky from frame to frame. Windows of tracking keep threshold_sigma.
+  std::string threshold_mode = "fixed";
+  int dynamic_target_stars = 20;
+  double dynamic_min_sigma = 3.0;   ///< below it noise blobs outnumber faint stars (seed Fig. 4.1: k = 1 passes 10 % of pixels)
+  double dynamic_max_sigma = 10.0;
+  double dynamic_step_sigma = 0.5;
   int background_tile_px = 128;  ///< tile side for the tiled median/MAD; 0 = one global value
   int background_samples = 256;  ///< pixels sampled per tile (or globally x16): speed vs noise
   cv::Mat dark_frame;            ///< optional dark frame, same size and type, subtracted first

@@ -116,6 +116,9 @@ StarDetector::StarDetector(const DetectorOptions& opts)
 StarDetector::StarDetector(const DetectorOptions& opts, std::shared_ptr<Scratch> scratch)
     : opts_(opts), scratch_(std::move(scratch)) {
   requireValid(opts_);
+  k_ = opts_.threshold_mode == "dynamic"
+           ? std::clamp(opts_.threshold_sigma, opts_.dynamic_min_sigma, opts_.dynamic_max_sigma)
+           : opts_.threshold_sigma;
   main_ = Centroider::create(opts_.centroider);
   cog_ = Centroider::create("cog");
   ST_ASSERT(main_ && cog_ && scratch_);  // the name was validated; "cog" is in the table
@@ -157,7 +160,22 @@ void StarDetector::detect(const cv::Mat& image, DetectionResult& res) {
     res.reason = why;
     return;
   }
+  if (opts_.threshold_mode != "dynamic") {
+    detectFrame(grey, opts_, *main_, *cog_, s, res);
+    res.threshold_sigma = opts_.threshold_sigma;
+    return;
+  }
+  // The windows keep the configured k: only full frames use (and move) the dynamic one.
+  const double fixed_k = opts_.threshold_sigma;
+  opts_.threshold_sigma = k_;
   detectFrame(grey, opts_, *main_, *cog_, s, res);
+  opts_.threshold_sigma = fixed_k;
+  res.threshold_sigma = k_;
+  // Seed 004 §8.2.3: sparse stars -> a lower threshold; many (noise spikes) -> a higher one.
+  if (static_cast<int>(res.stars.size()) < opts_.dynamic_target_stars)
+    k_ = std::max(opts_.dynamic_min_sigma, k_ - opts_.dynamic_step_sigma);
+  else if (res.blobs_found > 2 * opts_.dynamic_target_stars)
+    k_ = std::min(opts_.dynamic_max_sigma, k_ + opts_.dynamic_step_sigma);
 }
 
 DetectionResult StarDetector::detect(const cv::Mat& image) {
