@@ -11,6 +11,7 @@
 
 #include "common/check.hpp"
 #include "common/errors.hpp"
+#include "sensors/detect/background.hpp"
 
 namespace st {
 
@@ -89,15 +90,13 @@ DarkStats darkStats(const cv::Mat& dark, double k_sigma) {
   DarkStats s;
   if (dark.empty()) return s;
   cv::Mat d;
-  dark.convertTo(d, CV_64F);
+  dark.convertTo(d, CV_32F);
   s.mean = cv::mean(d)[0];
-  std::vector<double> v(d.begin<double>(), d.end<double>());
-  auto mid = v.begin() + v.size() / 2;
-  std::nth_element(v.begin(), mid, v.end());
-  const double med = *mid;
-  for (double& x : v) x = std::abs(x - med);
-  std::nth_element(v.begin(), mid, v.end());
-  s.sigma = 1.4826 * *mid;
+  // Robust, and read as grouped data: a median dark is whole numbers whose spread is often
+  // below one ADU, where a plain MAD would be 0 and every pixel above the mean "hot".
+  std::vector<float> v(d.begin<float>(), d.end<float>());
+  double level = 0;
+  robustLevelSigma(v, level, s.sigma);
   const double cut = s.mean + k_sigma * s.sigma;
   s.hot_pixels = static_cast<long>(cv::countNonZero(d > cut));
   return s;

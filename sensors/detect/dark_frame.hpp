@@ -17,9 +17,9 @@ namespace st {
 /// that no frame had. Empty input gives an empty Mat.
 cv::Mat medianDark(const std::vector<cv::Mat>& frames);
 
-/// What a dark looks like: mean and standard deviation of its pixels and its hot pixels,
-/// those above mean + k * sigma (sigma robust: 1.4826 MAD, so the hot pixels themselves do
-/// not inflate it).
+/// What a dark looks like: mean and spread of its pixels and its hot pixels, those above
+/// mean + k * sigma (sigma robust, IQR / 1.349 of the pixels read as whole numbers,
+/// background.hpp's robustLevelSigma, so the hot pixels themselves do not inflate it).
 struct DarkStats {
   double mean = 0, sigma = 0;
   long hot_pixels = 0;
