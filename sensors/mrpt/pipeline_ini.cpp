@@ -42,8 +42,8 @@ const SectionSchema<DetectorOptions>& detectorSchema() {
           .add("detect_threshold_sigma", &D::threshold_sigma,
                "candidate above background + k sigma")
           .renamed("threshold_sigma", "detect_threshold_sigma")
-          .choice("detect_threshold_mode", &D::threshold_mode, {"fixed", "dynamic"},
-                  "dynamic: k follows the star count of recent frames (seed 004 8.2.3)")
+          .add("detect_threshold_mode", &D::threshold_mode,
+               "fixed | dynamic: k follows the star count of recent frames (seed 004 8.2.3)")
           .add("detect_dynamic_target_stars", &D::dynamic_target_stars,
                "dynamic: fewer stars lower k; more than twice as many blobs raise it")
           .add("detect_dynamic_min_sigma", &D::dynamic_min_sigma, "dynamic: lowest k")

@@ -175,6 +175,14 @@ TEST(DarkCommand, TrackerKeyReadsTheDark) {
     EXPECT_NE(m.find("detect_dark_file"), std::string::npos) << m;
     EXPECT_NE(m.find("none.fits"), std::string::npos) << m;
   }
+  // The dynamic-threshold keys read in the same section; a bad mode names its key.
+  mrpt::config::CConfigFileMemory bad("[pipeline]\ndetect_threshold_mode = adaptive\n");
+  try {
+    readPipelineOptions(IniReader{bad, "t.ini"}, "pipeline", o);
+    FAIL() << "detect_threshold_mode = adaptive was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("detect_threshold_mode"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
