@@ -7,6 +7,7 @@ void addCalibrateCommand(CLI::App& root, CommandRun& run);
 void addCameraCommand(CLI::App& root, CommandRun& run);
 void addCatalogCommand(CLI::App& root, CommandRun& run);
 void addConfigCommand(CLI::App& root, CommandRun& run);
+void addDarkCommand(CLI::App& root, CommandRun& run);
 void addLiveCommand(CLI::App& root, CommandRun& run);
 void addMontecarloCommand(CLI::App& root, CommandRun& run);
 void addReplayCommand(CLI::App& root, CommandRun& run);
@@ -18,6 +19,7 @@ void addAllCommands(CLI::App& root, CommandRun& run) {
   addCameraCommand(root, run);
   addCatalogCommand(root, run);
   addConfigCommand(root, run);
+  addDarkCommand(root, run);
   addLiveCommand(root, run);
   addMontecarloCommand(root, run);
   addReplayCommand(root, run);

@@ -318,4 +318,36 @@ LoadedImage loadImage(const std::string& path) {
   return out;
 }
 
+void writeImage(const std::string& path, const cv::Mat& image) {
+  const bool wide = image.type() == CV_16UC1;
+  if (!wide && image.type() != CV_8UC1)
+    throw InputError(path + ": only mono 8/16-bit images are written (got " +
+                     cv::typeToString(image.type()) + ")");
+  if (!isFitsPath(path)) {
+    bool ok = false;
+    try {
+      ok = cv::imwrite(path, image);
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok) throw InputError(path + ": cannot write this image format (try .fits, .png or .tif)");
+    return;
+  }
+  fitsfile* f = nullptr;
+  int status = 0;
+  long naxes[2] = {image.cols, image.rows};
+  const std::string clobber = "!" + path;  // cfitsio's way of replacing an existing file
+  fits_create_file(&f, clobber.c_str(), &status);
+  fits_create_img(f, wide ? USHORT_IMG : BYTE_IMG, 2, naxes, &status);
+  const cv::Mat c = image.isContinuous() ? image : image.clone();
+  fits_write_img(f, wide ? TUSHORT : TBYTE, 1, static_cast<LONGLONG>(c.total()),
+                 const_cast<uchar*>(c.data), &status);
+  if (f) fits_close_file(f, &status);
+  if (status) {
+    char msg[FLEN_STATUS] = {0};
+    fits_get_errstatus(status, msg);
+    throw InputError(path + ": cannot write the FITS image (cfitsio: " + msg + ")");
+  }
+}
+
 }  // namespace st::app

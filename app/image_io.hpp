@@ -45,6 +45,11 @@ bool isFitsPath(const std::string& path);
 /// Throws InputError naming the file when it cannot be read or is outside the limits above.
 LoadedImage loadImage(const std::string& path);
 
+/// Writes a mono 8/16-bit image: FITS (BITPIX 8, or 16 with BZERO 32768 for unsigned) when
+/// the name says FITS, else the format the extension names through OpenCV (PNG, TIFF, PGM keep
+/// 16 bits). An existing file is replaced. Throws InputError naming the file.
+void writeImage(const std::string& path, const cv::Mat& image);
+
 /// Julian year of "YYYY-MM-DD[Thh[:]mm[:]ss[.s]]" (UTC); nullopt when it does not parse.
 std::optional<double> parseIsoEpoch(const std::string& text);
 

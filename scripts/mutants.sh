@@ -63,9 +63,9 @@ mutant liebe-image-rim sensors/identify/liebe.cpp \
   $ID 'IdentifyRules.Liebe*' \
   "seed 003 Initial Estimate: skip a star whose 2nd neighbour is farther than the rim"
 mutant nvertex-baselines sensors/identify/nvertex.cpp \
-  's/!ctx.angleMatches\(j, k, b, c\) \|\|//@@s/!ctx.angleMatches\(j, l, b, d\) \|\|//@@s/!ctx.angleMatches\(k, l, c, d\)\)/false)/' \
+  's/if \(!ctx.angleMatches\(o\[j\], o\[k\], s\[j\], c\)\) return;/(void)0;/' \
   $ID 'IdentifyRules.NVertex*' \
-  "seed 004 eq. 6.7: baselines BC, BD, CD between the assigned candidates (all three)"
+  "seed 004 eq. 6.7: every baseline between the assigned candidates (BC; BC BD CD; B..E), n = 3, 4, 5"
 mutant pyramid-fourth-star sensors/identify/pyramid.cpp \
   's/!ctx.angleMatches\(j, r, t\[1\], d\) \|\|//@@s/!ctx.angleMatches\(k, r, t\[2\], d\)\)/false)/' \
   $ID 'IdentifyRules.Pyramid*' \
@@ -101,9 +101,17 @@ mutant drop-saturated-min-stars sensors/identify/recursive_id.cpp \
   "drop_saturated keeps saturated stars when fewer than min_stars others remain"
 DT=st_test_detect
 mutant dark-frame sensors/detect/star_detector.cpp \
-  's/cv::subtract\(grey, opts.dark_frame, s.dark_subtracted\);/s.dark_subtracted = grey;/' \
+  's/cv::subtract\(grey, dark, s.dark_subtracted\);/s.dark_subtracted = grey;/' \
   $DT 'DetectRules.*' \
   "dark-frame subtraction before detection (full frame and tracking windows)"
+mutant dark-median sensors/detect/dark_frame.cpp \
+  's/const auto mid = v.begin\(\) \+ \(n - 1\) \/ 2;/const auto mid = v.begin() + (n - 1);/' \
+  $DT 'DarkMedian.*' \
+  "seed 004 sec. 4.1: the master dark is the per-pixel median (here: the maximum)"
+mutant dynamic-threshold sensors/detect/star_detector.cpp \
+  's/k_ = std::max\(opts_.dynamic_min_sigma, k_ - opts_.dynamic_step_sigma\);/(void)0;/' \
+  $DT 'DynamicThreshold.*' \
+  "seed 004 sec. 8.2.3: a sparse frame lowers the next frame's threshold"
 APP=startracker
 mutant mc-star-count-lt3 app/montecarlo/exp_star_count.cpp \
   's/return x < 3; \}/return x <= 3; }/' \

@@ -21,6 +21,7 @@ const std::vector<Entry>& registry() {
       {"lis-robustness", "lost-in-space success and false-ID rates per error situation (false, dropped, displaced stars, noise), per algorithm (seed 003 Tables 2-3)", makeLisRobustness},
       {"error-vs-stars", "attitude error (cross-boresight, roll) vs number of stars against the covariance prediction, per Wahba solver (seeds 000 Fig. 12, 003 Fig. 18)", makeErrorVsStars},
       {"timing", "time per frame per stage (detection on rendered images, pattern search, verification, solve) and candidates examined vs star count (seed 000 Figs. 10-11)", makeTiming},
+      {"centroid-defocus", "centroid error vs PSF width (defocus) and SNR, and centroider time per magnitude, weighted sum vs maximum likelihood (seed 004 Figs. 4.4-4.5, Table 4.2)", makeCentroidDefocus},
   };
   return table;
 }

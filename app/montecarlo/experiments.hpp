@@ -12,5 +12,6 @@ std::unique_ptr<Experiment> makeFovSelection();
 std::unique_ptr<Experiment> makeLisRobustness();
 std::unique_ptr<Experiment> makeErrorVsStars();
 std::unique_ptr<Experiment> makeTiming();
+std::unique_ptr<Experiment> makeCentroidDefocus();
 
 }  // namespace st::app::mc

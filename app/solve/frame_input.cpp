@@ -56,7 +56,18 @@ FrameInput loadFrameInput(const SolveOptions& o) {
   in.epoch_jyear = img.epoch_jyear;
   in.epoch_source = img.epoch_source;
   t0 = Clock::now();
-  DetectionResult det = detectStars(img.image);
+  DetectorOptions dopts;
+  if (!o.dark_frame.empty()) {
+    const cv::Mat& d = o.dark_frame;
+    if (d.size() != img.image.size() || d.depth() != img.image.depth())
+      throw InputError("--dark " + o.dark + ": " + std::to_string(d.cols) + "x" +
+                       std::to_string(d.rows) + " " + cv::typeToString(d.type()) +
+                       " differs from the image " + o.input + " (" +
+                       std::to_string(img.image.cols) + "x" + std::to_string(img.image.rows) +
+                       " " + cv::typeToString(img.image.type()) + ")");
+    dopts.dark_frame = d;
+  }
+  DetectionResult det = detectStars(img.image, dopts);
   in.detect_ms = msSince(t0);
   in.stars = std::move(det.stars);
   in.detection_reason = det.reason;

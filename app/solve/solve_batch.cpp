@@ -20,6 +20,7 @@
 #include "common/errors.hpp"
 #include "common/log.hpp"
 #include "common/progress.hpp"
+#include "sensors/detect/dark_frame.hpp"
 
 namespace st::app {
 namespace {
@@ -123,9 +124,15 @@ int runBatch(const SolveOptions& o, const std::vector<std::string>& frames) {
 
 }  // namespace
 
-int runSolve(const SolveOptions& o) {
+int runSolve(const SolveOptions& options) {
   bool printed = false;
+  const SolveOptions& o = options;
   try {
+    if (!o.dark.empty() && o.dark_frame.empty()) {  // read once for every frame
+      SolveOptions with_dark = o;
+      with_dark.dark_frame = readDarkFrame(o.dark);
+      return runSolve(with_dark);
+    }
     if (isSingleFrame(o.inputs)) return runSingle(o, printed);
     const std::vector<std::string> frames = expandInputs(o.inputs);
     checkBeforeWork(o, frames.size());

@@ -153,6 +153,9 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
   cmd->add_option("--min-sigma-px", o->min_sigma_px,
                   "Floor of the centroid 1-sigma [px] (default 0.1); the camera model's own "
                   "error is measured on the stars and added");
+  cmd->add_option("--dark", o->dark,
+                  "Master dark (`startracker dark`; FITS, PNG or TIFF, the images' size and "
+                  "depth), subtracted before detection");
   addSearchOptions(*cmd, *o);
   cmd->callback([o, &run_fn] { run_fn = [o] { return runSolve(*o); }; });
 }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "app/camera_options.hpp"
 #include "sensors/identify/identifier.hpp"
 #include "sensors/identify/plate_solve.hpp"
@@ -38,6 +40,8 @@ struct SolveOptions {
   std::string wcs;        ///< FITS WCS header output (one frame)
   bool no_aberration = false;  ///< astrometric frame instead of apparent
   std::vector<double> observer_velocity_km_s;  ///< added to the Earth's (GCRS/ICRS axes)
+  std::string dark;     ///< master dark file (`startracker dark`), subtracted before detection
+  cv::Mat dark_frame;   ///< its pixels, read once by runSolve
 
   /// The parity flag as the search takes it.
   ParityChoice parityChoice() const;

@@ -23,6 +23,16 @@ bool DetectorOptions::isValid(std::string* error) const {
     bad("saturation_adu", saturation_adu, "must be >= 0 (0 = type maximum)");
   else if (!(threshold_sigma > 0))
     bad("threshold_sigma", threshold_sigma, "must be > 0");
+  else if (threshold_mode != "fixed" && threshold_mode != "dynamic")
+    e << "DetectorOptions.threshold_mode = '" << threshold_mode << "': valid fixed, dynamic";
+  else if (dynamic_target_stars < 1)
+    bad("dynamic_target_stars", dynamic_target_stars, "must be >= 1");
+  else if (!(dynamic_min_sigma > 0))
+    bad("dynamic_min_sigma", dynamic_min_sigma, "must be > 0");
+  else if (!(dynamic_max_sigma >= dynamic_min_sigma))
+    bad("dynamic_max_sigma", dynamic_max_sigma, "must be >= dynamic_min_sigma");
+  else if (!(dynamic_step_sigma > 0))
+    bad("dynamic_step_sigma", dynamic_step_sigma, "must be > 0");
   else if (background_tile_px < 0 || (background_tile_px > 0 && background_tile_px < 16))
     bad("background_tile_px", background_tile_px, "must be 0 (global) or >= 16");
   else if (background_samples < 16)

@@ -14,6 +14,14 @@
 
 namespace st {
 
+/// A master dark named by a file (`startracker dark`): the ini key detect_dark_file reads
+/// the file into `image` when the configuration is read, so a bad file fails there (exit 2)
+/// and not at the first frame; `path` is what the printed configuration shows.
+struct DarkFrameFile {
+  std::string path;  ///< "" = none
+  cv::Mat image;
+};
+
 struct DetectorOptions {
   // --- noise model ---
   double gain_e_per_adu = 1.0;  ///< [e-/ADU] converts signal to shot-noise variance
@@ -22,9 +30,25 @@ struct DetectorOptions {
 
   // --- background and threshold (seed 004 §4.1) ---
   double threshold_sigma = 5.0;  ///< k: a pixel is a candidate if value > background + k*sigma
+  /// Dynamic thresholding (seed 004 §8.2.3: "automatically set the noise threshold level
+  /// based on the properties of the recent images"): "fixed" keeps threshold_sigma; "dynamic"
+  /// starts there and, after each full-frame detection, lowers k by dynamic_step_sigma when
+  /// fewer than dynamic_target_stars stars were kept ("sparse numbers of stars": dig out
+  /// fainter ones) and raises it when the blobs above the threshold exceed twice that
+  /// ("eliminate potential noise spikes"), within [dynamic_min_sigma, dynamic_max_sigma].
+  /// The per-tile level and sigma already make k local in space; this makes it follow the
+  /// sky from frame to frame. Windows of tracking keep threshold_sigma.
+  std::string threshold_mode = "fixed";
+  int dynamic_target_stars = 20;
+  double dynamic_min_sigma = 3.0;   ///< below it noise blobs outnumber faint stars (seed Fig. 4.1: k = 1 passes 10 % of pixels)
+  double dynamic_max_sigma = 10.0;
+  double dynamic_step_sigma = 0.5;
   int background_tile_px = 128;  ///< tile side for the tiled median/MAD; 0 = one global value
   int background_samples = 256;  ///< pixels sampled per tile (or globally x16): speed vs noise
   cv::Mat dark_frame;            ///< optional dark frame, same size and type, subtracted first
+  DarkFrameFile dark_file;       ///< the dark of the ini key; used when dark_frame is empty
+  /// The dark subtracted: dark_frame when set in code, else the ini key's.
+  const cv::Mat& dark() const { return dark_frame.empty() ? dark_file.image : dark_frame; }
 
   /// Pre-filter of seed 004 §4.1 / §4.2.2, meant for low thresholds (k ~ 1-2):
   ///   "none"; "neighbourhood": keep a candidate pixel if >= prefilter_min_count of the 5x5

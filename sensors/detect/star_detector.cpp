@@ -116,6 +116,9 @@ StarDetector::StarDetector(const DetectorOptions& opts)
 StarDetector::StarDetector(const DetectorOptions& opts, std::shared_ptr<Scratch> scratch)
     : opts_(opts), scratch_(std::move(scratch)) {
   requireValid(opts_);
+  k_ = opts_.threshold_mode == "dynamic"
+           ? std::clamp(opts_.threshold_sigma, opts_.dynamic_min_sigma, opts_.dynamic_max_sigma)
+           : opts_.threshold_sigma;
   main_ = Centroider::create(opts_.centroider);
   cog_ = Centroider::create("cog");
   ST_ASSERT(main_ && cog_ && scratch_);  // the name was validated; "cog" is in the table
@@ -132,12 +135,13 @@ namespace {
 bool darkSubtractedGrey(const cv::Mat& image, const DetectorOptions& opts, Scratch& s,
                         cv::Mat& grey, std::string& why) {
   if (!greyView(image, s.converted, grey, why)) return false;
-  if (opts.dark_frame.empty()) return true;
-  if (opts.dark_frame.size() != grey.size() || opts.dark_frame.type() != grey.type()) {
+  const cv::Mat& dark = opts.dark();
+  if (dark.empty()) return true;
+  if (dark.size() != grey.size() || dark.type() != grey.type()) {
     why = "dark frame size/type differs from the image";
     return false;
   }
-  cv::subtract(grey, opts.dark_frame, s.dark_subtracted);
+  cv::subtract(grey, dark, s.dark_subtracted);
   grey = s.dark_subtracted;
   return true;
 }
@@ -156,7 +160,22 @@ void StarDetector::detect(const cv::Mat& image, DetectionResult& res) {
     res.reason = why;
     return;
   }
+  if (opts_.threshold_mode != "dynamic") {
+    detectFrame(grey, opts_, *main_, *cog_, s, res);
+    res.threshold_sigma = opts_.threshold_sigma;
+    return;
+  }
+  // The windows keep the configured k: only full frames use (and move) the dynamic one.
+  const double fixed_k = opts_.threshold_sigma;
+  opts_.threshold_sigma = k_;
   detectFrame(grey, opts_, *main_, *cog_, s, res);
+  opts_.threshold_sigma = fixed_k;
+  res.threshold_sigma = k_;
+  // Seed 004 §8.2.3: sparse stars -> a lower threshold; many (noise spikes) -> a higher one.
+  if (static_cast<int>(res.stars.size()) < opts_.dynamic_target_stars)
+    k_ = std::max(opts_.dynamic_min_sigma, k_ - opts_.dynamic_step_sigma);
+  else if (res.blobs_found > 2 * opts_.dynamic_target_stars)
+    k_ = std::min(opts_.dynamic_max_sigma, k_ + opts_.dynamic_step_sigma);
 }
 
 DetectionResult StarDetector::detect(const cv::Mat& image) {

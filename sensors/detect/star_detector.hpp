@@ -40,6 +40,7 @@ struct DetectionResult {
   int blobs_found = 0;          ///< connected components above the threshold
   int rejected = 0;             ///< blobs dropped (area, reject_flags, failed centroid)
   int duplicates = 0;           ///< centroids dropped as the same star as a brighter one
+  double threshold_sigma = 0;   ///< k of this detection (threshold_mode dynamic: it varies)
 };
 
 
@@ -84,6 +85,9 @@ class StarDetector {
   StarDetector& operator=(StarDetector&&) noexcept;
 
   const DetectorOptions& options() const { return opts_; }
+  /// The k the next full-frame detection uses (threshold_sigma unless threshold_mode is
+  /// "dynamic").
+  double thresholdSigma() const { return k_; }
 
   /// Full frame: stars brightest first (at most options().max_stars).
   DetectionResult detect(const cv::Mat& image);
@@ -103,6 +107,7 @@ class StarDetector {
 
  private:
   DetectorOptions opts_;
+  double k_ = 0;  ///< full-frame threshold [sigma]; moves between frames when dynamic
   std::unique_ptr<Centroider> main_;  ///< opts_.centroider
   std::unique_ptr<Centroider> cog_;   ///< fallback when main_ fails, and for streaks
   std::shared_ptr<detect_detail::Scratch> scratch_;

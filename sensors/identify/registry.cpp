@@ -13,7 +13,9 @@
   X("liebe", makeLiebe, "Liebe's triangular feature from the neighbour table (seed 003)")      \
   X("planar", makePlanarTriangle, "planar triangles matched by area and polar moment (seed 001 eq. 2-7)") \
   X("spherical", makeSphericalTriangle, "spherical triangles matched by area and polar moment (seed 001 eq. 8-12)") \
-  X("nvertex", makeNVertex, "4-vertex match with a self-consistency check (seed 004 sec. 5.5.4)")
+  X("nvertex", makeNVertex, "4-vertex match with a self-consistency check (seed 004 sec. 5.5.4)") \
+  X("nvertex3", makeNVertex3, "the n-vertex match with n = 3: a triangle, all baselines at once (seed 004 sec. 5.5.4)") \
+  X("nvertex5", makeNVertex5, "the n-vertex match with n = 5: ten baselines at once (seed 004 sec. 5.5.4)")
 // clang-format on
 
 namespace st {

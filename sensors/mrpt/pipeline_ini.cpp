@@ -5,8 +5,29 @@
 #include <vector>
 
 #include "common/errors.hpp"
+#include "sensors/detect/dark_frame.hpp"
 
 namespace st {
+
+/// detect_dark_file: the path, and the dark read from it as the key is read.
+template <>
+struct IniCodec<DarkFrameFile> {
+  static bool present(const IniReader& r, const std::string& s, const std::string& k) {
+    return r.has(s, k);
+  }
+  static void read(const IniReader& r, const std::string& s, const std::string& k,
+                   DarkFrameFile& v) {
+    v.path = r.str(s, k, "");
+    v.image.release();
+    if (v.path.empty()) return;
+    try {
+      v.image = readDarkFrame(v.path);
+    } catch (const InputError& e) {
+      throw InputError(r.whereKey(s, k) + ": " + e.what());
+    }
+  }
+  static std::string write(const DarkFrameFile& v) { return v.path; }
+};
 
 namespace {
 
@@ -21,8 +42,18 @@ const SectionSchema<DetectorOptions>& detectorSchema() {
           .add("detect_threshold_sigma", &D::threshold_sigma,
                "candidate above background + k sigma")
           .renamed("threshold_sigma", "detect_threshold_sigma")
+          .add("detect_threshold_mode", &D::threshold_mode,
+               "fixed | dynamic: k follows the star count of recent frames (seed 004 8.2.3)")
+          .add("detect_dynamic_target_stars", &D::dynamic_target_stars,
+               "dynamic: fewer stars lower k; more than twice as many blobs raise it")
+          .add("detect_dynamic_min_sigma", &D::dynamic_min_sigma, "dynamic: lowest k")
+          .add("detect_dynamic_max_sigma", &D::dynamic_max_sigma, "dynamic: highest k")
+          .add("detect_dynamic_step_sigma", &D::dynamic_step_sigma, "dynamic: change of k per frame")
           .add("detect_background_tile_px", &D::background_tile_px,
                "[px] tile of the background median; 0 = one global value")
+          .add("detect_dark_file", &D::dark_file,
+               "master dark (`startracker dark`: FITS, PNG, TIFF), subtracted first; "
+               "empty = none")
           .add("detect_background_samples", &D::background_samples, "pixels sampled per tile")
           .add("detect_prefilter", &D::prefilter, "none | neighbourhood | grid (low thresholds)")
           .add("detect_prefilter_min_count", &D::prefilter_min_count, "of the 25 pixels of 5x5")

@@ -17,7 +17,7 @@
 /// read_noise_adu, psf_sigma_px, centroider), exposure_s and sensor_label.
 /// The old names (gate_sigma, solver, max_stars, ...) are refused naming their new name.
 /// Not keys: R_body_cam (the sensor's MRPT pose gives it), DetectorOptions::dark_frame (an
-/// image), VerifyOptions::scale_tolerance (copied from lis_scale_tolerance) and
+/// image; detect_dark_file names a file of one), VerifyOptions::scale_tolerance (copied from lis_scale_tolerance) and
 /// VerifyOptions::enabled (off only in tests: a tracker that accepts every hypothesis).
 #pragma once
 #include <string>

@@ -104,8 +104,14 @@ SimFrame SkySimulator::frame(int k) const {
   const MotionProfile& motion = *sc_.motion;
   const double t_mid = f.t;
   const AttitudeAt q_at = [&motion, t_mid](double tau) { return motion.attitude(t_mid + tau); };
-  cv::Mat electrons = background_.clone();
-  f.truth = renderer_->render(q_at, electrons, render_opts_);
+  f.exposure_s = sc_.sensor.exposureAt(sc_.camera, f.rate_body);
+  // Sky and dark current (hot pixels too) grow with the exposure like the starlight.
+  cv::Mat electrons = f.exposure_s == sc_.sensor.exposure_s
+                          ? background_.clone()
+                          : cv::Mat(background_ * (f.exposure_s / sc_.sensor.exposure_s));
+  RenderOptions opts = render_opts_;
+  opts.exposure_s = f.exposure_s;
+  f.truth = renderer_->render(q_at, electrons, opts);
   if (f.dropped) return f;
   const int shown = frozenImageSource(sc_.faults, k, f.t, sc_.frame_rate_hz);
   if (shown != k) {  // a stuck readout: the earlier image again, the truth of now
@@ -118,7 +124,7 @@ SimFrame SkySimulator::frame(int k) const {
   }
   std::mt19937_64 clutter = makeRng(seed_, RandomStream::kFrameClutter, static_cast<uint64_t>(k));
   f.spikes = addSpikes(electrons, sc_.faults, clutter);
-  addBlinding(electrons, sc_.faults, f.t, sc_.sensor.exposure_s);
+  addBlinding(electrons, sc_.faults, f.t, f.exposure_s);
   std::mt19937_64 noise = makeRng(seed_, RandomStream::kFrameNoise, static_cast<uint64_t>(k));
   f.image = detector_.expose(electrons, noise);
   return f;

@@ -128,6 +128,7 @@ std::shared_ptr<const StarDatabase> buildScenarioDatabase(const Scenario& sc);
 struct SimFrame {
   int index = 0;
   double t = 0;             ///< [s] from the start, mid-exposure
+  double exposure_s = 0;    ///< [s] this frame's exposure (SensorParams::exposureAt)
   double stamp_t = 0;       ///< [s] the camera's clock at t (t unless its clock jumped)
   bool dropped = false;     ///< the camera delivered nothing (image empty)
   Quat q_ib = Quat::Identity();

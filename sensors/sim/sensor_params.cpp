@@ -4,6 +4,7 @@
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "sensors/detect/exposure.hpp"
 
 namespace st {
 
@@ -30,6 +31,11 @@ double SensorParams::modelVarianceAdu(double lambda) const {
   return (lambda + read_noise_e * read_noise_e) / (g * g) + 1.0 / 12.0;
 }
 
+double SensorParams::exposureAt(const CameraModel& cam, const Vec3& omega) const {
+  if (!(max_smear_px > 0)) return exposure_s;
+  return exposureForRate(cam, omega, max_smear_px, min_exposure_s, exposure_s);
+}
+
 void SensorParams::validate(const std::string& where) const {
   auto bad = [&](const std::string& key, double v, const std::string& rule) {
     throw InputError(where + ": key '" + key + "' = " + std::to_string(v) + " " + rule);
@@ -38,6 +44,9 @@ void SensorParams::validate(const std::string& where) const {
   if (!(transmission > 0 && transmission <= 1)) bad("transmission", transmission, "must be in (0, 1]");
   if (!(qe > 0 && qe <= 1)) bad("qe", qe, "must be in (0, 1]");
   if (!(exposure_s > 0)) bad("exposure_s", exposure_s, "must be > 0");
+  if (!(max_smear_px >= 0)) bad("max_smear_px", max_smear_px, "must be >= 0 (0 = fixed exposure)");
+  if (!(min_exposure_s > 0 && min_exposure_s <= exposure_s))
+    bad("min_exposure_s", min_exposure_s, "must be in (0, exposure_s]");
   if (!(v0_photon_flux > 0)) bad("v0_photon_flux", v0_photon_flux, "must be > 0");
   if (!(psf_sigma_px >= 0.2)) bad("psf_sigma_px", psf_sigma_px, "must be >= 0.2");
   if (!(sky_e_px_s >= 0)) bad("sky_e_px_s", sky_e_px_s, "must be >= 0");
@@ -60,7 +69,10 @@ const SectionSchema<SensorParams>& sensorParamsSchema() {
                  "[mm] aperture_diameter_m in millimetres")
           .add("transmission", &P::transmission, "optical transmission of the lens, (0, 1]")
           .add("qe", &P::qe, "quantum efficiency of the detector, (0, 1]")
-          .add("exposure_s", &P::exposure_s, "[s] integration time")
+          .add("exposure_s", &P::exposure_s, "[s] integration time (the longest with max_smear_px)")
+          .add("max_smear_px", &P::max_smear_px,
+               "[px] > 0: exposure per frame from the true rate, smear under this; 0 = fixed")
+          .add("min_exposure_s", &P::min_exposure_s, "[s] shortest exposure (max_smear_px)")
           .add("v0_photon_flux", &P::v0_photon_flux, "[photons/s/m^2] flux of a V = 0 star")
           .add("psf_sigma_px", &P::psf_sigma_px, "[px] sigma of the Gaussian PSF, >= 0.2")
           .add("sky_e_px_s", &P::sky_e_px_s, "[e-/px/s] sky + stray light background rate")

@@ -20,7 +20,9 @@
 #include <cstdint>
 #include <string>
 
+#include "common/attitude.hpp"
 #include "config/schema.hpp"
+#include "sensors/camera/camera_model.hpp"
 
 namespace mrpt::config {
 class CConfigFileBase;
@@ -33,7 +35,12 @@ struct SensorParams {
   double aperture_diameter_m = 0.025;  ///< [m] entrance pupil diameter D
   double transmission = 0.8;           ///< optical transmission of the lens, 0..1
   double qe = 0.6;                     ///< quantum efficiency of the detector, 0..1
-  double exposure_s = 0.1;             ///< [s] integration time t_exp
+  double exposure_s = 0.1;             ///< [s] integration time t_exp (the longest, with max_smear_px)
+  /// [px] > 0: each frame's exposure is the longest (up to exposure_s, down to min_exposure_s)
+  /// whose smear at the frame's true body rate stays under this (sensors/detect/exposure.hpp,
+  /// seed 004 sec. 4.2); 0: every frame exposes exposure_s.
+  double max_smear_px = 0;
+  double min_exposure_s = 1e-3;        ///< [s] the shortest exposure of the camera
   double v0_photon_flux = 8.8e9;       ///< [photons/s/m^2] F0, V = 0 star (see file comment)
   double psf_sigma_px = 1.0;           ///< [px] standard deviation of the Gaussian PSF
 
@@ -57,6 +64,8 @@ struct SensorParams {
   int maxAdu() const { return (1 << bit_depth) - 1; }
   /// Electrons collected from a star of visual magnitude `vmag` in one exposure (eq. 3.4).
   double starElectrons(double vmag) const;
+  /// The exposure of a frame [s] taken at body (= camera) rate `omega` [rad/s] through `cam`.
+  double exposureAt(const CameraModel& cam, const Vec3& omega) const;
   /// Mean electrons per pixel from sky + dark current in one exposure (no star, no hot pixel).
   double backgroundElectrons() const;
   /// Model mean and variance [ADU, ADU^2] of a pixel whose mean electron count is `lambda`,

@@ -38,7 +38,8 @@ std::vector<TrueStar> StarRenderer::render(const AttitudeAt& q_ib_at, cv::Mat& e
                                            const RenderOptions& opts) const {
   CV_Assert(electrons.type() == CV_64FC1 && electrons.cols == cam_.width() &&
             electrons.rows == cam_.height());
-  const double T = sensor_.exposure_s;
+  const double T = opts.exposure_s > 0 ? opts.exposure_s : sensor_.exposure_s;
+  const double light = T / sensor_.exposure_s;  // starElectrons is for the sensor's exposure
   const Quat q_mid = q_ib_at(0.0), q_start = q_ib_at(-0.5 * T), q_end = q_ib_at(0.5 * T);
   const Mat3 R_mid = q_mid.toRotationMatrix();
   const Mat3 R_start = q_start.toRotationMatrix();
@@ -58,12 +59,12 @@ std::vector<TrueStar> StarRenderer::render(const AttitudeAt& q_ib_at, cv::Mat& e
   sources.reserve(scratch_.size() + opts.extras.size());
   for (const SkyStar& s : scratch_) {
     if (isMissing(s.id, opts)) continue;
-    sources.push_back({s.u_i, sensor_.starElectrons(s.mag), sensor_.psf_sigma_px, true, s.id, s.mag});
+    sources.push_back({s.u_i, light * sensor_.starElectrons(s.mag), sensor_.psf_sigma_px, true, s.id, s.mag});
   }
   const double cos_r = std::cos(radius);
   for (const ExtraSource& e : opts.extras)
     if (e.u_i.dot(boresight_i) >= cos_r)
-      sources.push_back({e.u_i, sensor_.starElectrons(e.mag), e.sigma_px, false, 0, e.mag});
+      sources.push_back({e.u_i, light * sensor_.starElectrons(e.mag), e.sigma_px, false, 0, e.mag});
 
   // Sub-step count from the longest streak (start -> mid -> end) of any source.
   double max_len = 0;

@@ -56,6 +56,9 @@ struct RenderOptions {
   uint64_t missing_star_seed = 0;
   double max_substep_sigma = 0.5;    ///< sub-step spacing along a streak, in PSF sigmas
   int max_substeps = 4096;
+  /// [s] this frame's exposure when it is not the sensor's (SensorParams::max_smear_px): the
+  /// streaks span it and the stars' electrons scale with it; 0 = sensor().exposure_s.
+  double exposure_s = 0;
 };
 
 class StarRenderer {

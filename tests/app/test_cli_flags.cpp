@@ -14,7 +14,7 @@ namespace {
 using test::runCli;
 
 const char* const kCommands[] = {"camera",     "catalog", "catalog build", "catalog info",
-                                 "config",     "live",    "montecarlo",    "replay",
+                                 "config",     "dark",    "live",          "montecarlo", "replay",
                                  "simulate",   "solve"};
 
 TEST(CliFlags, VersionOnEveryCommand) {

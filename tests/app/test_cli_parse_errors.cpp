@@ -21,7 +21,7 @@ void expectUsageError(const std::string& args, const std::string& message) {
 TEST(CliParseErrors, UnknownCommandIsNamedWithTheCommands) {
   expectUsageError("slove x.png",
                    "unknown command 'slove' (did you mean 'solve'?); commands: calibrate, camera, catalog, "
-                   "config, live, montecarlo, replay, simulate, solve");
+                   "config, dark, live, montecarlo, replay, simulate, solve");
   expectUsageError("catalog biuld", "unknown catalog command 'biuld' (did you mean 'build'?); "
                                     "commands: build, info");
   expectUsageError("", "missing command; commands: calibrate, camera, catalog");
@@ -53,7 +53,7 @@ TEST(CliParseErrors, FlagsNamedAsTyped) {
                    "unknown option '--fov-rnge' (did you mean '--fov-range'?)");
   expectUsageError("solve x.png --algorithm pyramd",
                    "--algorithm must be one of pyramid, voting, liebe, planar, spherical, "
-                   "nvertex; got 'pyramd' (did you mean 'pyramid'?)");
+                   "nvertex, nvertex3, nvertex5; got 'pyramd' (did you mean 'pyramid'?)");
   expectUsageError("solve", "missing IMAGE: PNG, JPEG");
   expectUsageError("solve a.png b.png", "b.png: cannot open the image");  // a batch (issue 15)
   expectUsageError("solve x.png --camera c.yaml --fov-deg 10",

@@ -270,6 +270,24 @@ TEST(IdentifyRules, NVertexChecksEveryBaseline) {
   EXPECT_GE(r.right, 190);
 }
 
+// The same rule for n = 3 (baseline BC between the candidates of B and C) and n = 5 (the six
+// baselines among B..E), the other two versions of seed 004 sec. 5.5.4. 200 scenes each;
+// measured with the check / without it (scripts/mutants.sh nvertex-baselines):
+//   nvertex3 at 0.1 px: 190 / 2 right (at 0.5 px only 23 with it: three baselines of a V <= 6
+//   catalog are not unique at that noise, which is why the seed's n goes up to 5);
+//   nvertex5 at 0.5 px: 199 / 0 right.
+TEST(IdentifyRules, NVertexThreeAndFiveCheckEveryBaseline) {
+  test::SceneParams sp = clean();
+  sp.noise_px = 0.1;
+  const Rate r3 = firstHypothesisRate("nvertex3", {}, sp, 200, 106);
+  EXPECT_EQ(r3.made, 200);
+  EXPECT_GE(r3.right, 175);  // binomial(200, 0.95): 5 sigma below the measured 190
+  sp.noise_px = 0.5;
+  const Rate r5 = firstHypothesisRate("nvertex5", {}, sp, 200, 106);
+  EXPECT_EQ(r5.made, 200);
+  EXPECT_GE(r5.right, 190);
+}
+
 // Seed 000 "Reference-star": a spike (a false star) as the reference must not vote. Its
 // slices (pairs at its angles to the others) share no catalog star but by chance, so a star
 // reaches the count the spike bound asks for, f1 >= (n-1) - n_smax with n_smax = n/4 (and
