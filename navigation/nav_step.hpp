@@ -35,6 +35,13 @@ struct NavStep {
   Vec3 sigma_att = Vec3::Zero();   ///< [rad] 1-sigma per body axis
   Vec3 sigma_bias = Vec3::Zero();  ///< [rad/s]
 
+  bool gyroless = false;           ///< the filter's state holds the rate (no gyro)
+  Vec3 rate = Vec3::Zero();        ///< [rad/s] the filter's body rate (initialized)
+  Vec3 sigma_rate = Vec3::Zero();  ///< [rad/s] its 1-sigma per axis (gyroless only)
+  bool has_fix_rate = false;       ///< the tracker measured the rate since its last fix
+  Vec3 fix_rate = Vec3::Zero();    ///< [rad/s] that rate (seed 004 eq. 7.1)
+  Mat3 fix_rate_cov = Mat3::Zero();
+
   FixUse use = FixUse::kNoFix;     ///< what the filter did with the fix
   Eigen::VectorXd innovation;
   Eigen::MatrixXd innovation_cov;
@@ -54,7 +61,19 @@ struct NavStep {
   /// Matched stars named after one member of an unresolved pair (< 2 PSF sigma apart) while
   /// the other member is nearer to the centroid: one image peak, either name is right.
   int blend_claims = 0;
+  /// The true body rate at t: central difference of the neighbouring GROUND_TRUTH attitudes
+  /// (fillTruthRates), and the filter's error against it (initialized && has_true_rate).
+  bool has_true_rate = false;
+  Vec3 rate_true = Vec3::Zero();
+  Vec3 rate_error = Vec3::Zero();      ///< filter rate - truth [rad/s]
+  double rate_nees = 0;                ///< gyroless: 3 dof, with the filter's rate covariance
+  Mat3 P_rate = Mat3::Zero();
 };
+
+/// The true rate at every step with truth whose neighbours (previous and next step with
+/// truth, within max_gap_s) have truth too: Log(q_prev^-1 q_next) / (t_next - t_prev), the
+/// mean rate over the two intervals (exact at t for a rate constant or changing linearly).
+void fillTruthRates(std::vector<NavStep>& steps, double max_gap_s = 1.0);
 
 /// Copies a filter state into a step (attitude, bias, covariance, 1-sigma per axis).
 void fillFilterState(NavStep& s, const FilterState& f);

@@ -117,3 +117,47 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
 }
 
 }  // namespace st
+
+namespace st {
+
+void printRateSummary(const std::vector<NavStep>& steps, std::FILE* out) {
+  std::vector<double> ex, ey, ez, total, nees, fix_err;
+  bool gyroless = false;
+  for (const NavStep& s : steps) {
+    if (!s.has_true_rate) continue;
+    if (s.has_fix_rate) fix_err.push_back((s.fix_rate - s.rate_true).norm() * kDegPerRad);
+    if (!s.initialized) continue;
+    gyroless = gyroless || s.gyroless;
+    const Vec3 e = s.rate_error * kDegPerRad;
+    ex.push_back(e.x());
+    ey.push_back(e.y());
+    ez.push_back(e.z());
+    total.push_back(e.norm());
+    if (s.gyroless) nees.push_back(s.rate_nees);
+  }
+  if (total.empty() && fix_err.empty()) return;
+  std::fprintf(out, "body rate vs GROUND_TRUTH (central differences of the true attitudes) "
+               "[deg/s]:\n");
+  if (!total.empty()) {
+    std::fprintf(out, "  filter rate (%s) error RMS x %.5f y %.5f z %.5f total %.5f, max %.5f "
+                 "(%zu steps)\n",
+                 gyroless ? "gyroless state" : "gyro - bias", rms(ex), rms(ey), rms(ez),
+                 rms(total), *std::max_element(total.begin(), total.end()), total.size());
+  }
+  if (!nees.empty()) {
+    double mean = 0;
+    for (double v : nees) mean += v;
+    mean /= double(nees.size());
+    const double q95 = chiSquareQuantile(0.95, 3);
+    const auto below =
+        std::count_if(nees.begin(), nees.end(), [&](double v) { return v <= q95; });
+    std::fprintf(out, "  filter rate NEES: mean %.3f (3 dof), %.3f below the chi2(3) 95 %% "
+                 "point\n", mean, double(below) / double(nees.size()));
+  }
+  if (!fix_err.empty()) {
+    std::fprintf(out, "  tracker frame-to-frame rate error RMS %.5f (%zu frames; the mean over "
+                 "the frame interval)\n", rms(fix_err), fix_err.size());
+  }
+}
+
+}  // namespace st

@@ -12,5 +12,9 @@
 namespace st {
 
 void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out);
+/// The body-rate lines: the filter's rate error against the truth's (fillTruthRates first),
+/// RMS per axis and total, the rate NEES of a gyroless filter, and the tracker's own
+/// frame-to-frame rates. Prints nothing without true rates.
+void printRateSummary(const std::vector<NavStep>& steps, std::FILE* out);
 
 }  // namespace st
