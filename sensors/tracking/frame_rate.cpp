@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -21,6 +22,14 @@ RateFrame RateFrame::of(double t_s, const std::vector<MatchedStar>& stars, const
   if (n > 0 && lu.isInvertible()) {
     const double info_trace = lu.inverse().trace();
     if (info_trace > 0) f.sigma = std::sqrt(2.0 * n / info_trace);
+  }
+  // The fix's own residuals (2 dof per star, 3 taken by the attitude) measure the per-star
+  // scatter the centroid covariances may miss (streaks along the motion, the camera model):
+  // the larger of the two is used.
+  if (stars.size() >= 2) {
+    double r2 = 0;
+    for (const MatchedStar& m : stars) r2 += m.residual * m.residual;
+    f.sigma = std::max(f.sigma, std::sqrt(r2 / (2.0 * n - 3.0)));
   }
   return f;
 }

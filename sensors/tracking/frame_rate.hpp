@@ -9,8 +9,11 @@
 /// Covariance: each pair's residual v_1 - A v_2 carries both frames' noise, sigma_k^2 =
 /// sigma_1^2 + sigma_2^2 (the two images are independent), so the QUEST covariance of the
 /// relative rotation (seed 004 §6) is (sum_k (I - v_k v_k^T) / sigma_k^2)^-1 and the rate's
-/// is that divided by dt^2. Each frame's per-star sigma comes from its fix covariance: n
-/// stars of equal sigma give a QUEST information of trace 2 n / sigma^2.
+/// is that divided by dt^2. Each frame's per-star sigma is the larger of the one its fix
+/// covariance implies (n stars of equal sigma give a QUEST information of trace 2 n /
+/// sigma^2) and its residuals' scatter, sum r_k^2 / (2 n - 3): on simulated slews the
+/// centroid covariances alone made the rate's roll sigma 5x too small (streak errors along
+/// the motion; tests/tracking/test_frame_rate.cpp).
 ///
 /// The rate and the two fixes are NOT independent (the same star vectors): see
 /// fusion/gyroless_model.hpp for why the fusion loop does not feed it to the filter.
@@ -30,7 +33,7 @@ struct RateFrame {
   std::vector<uint32_t> ids;
   std::vector<Vec3> v_cam;
   double sigma = 0;  ///< [rad] per-star 1-sigma across the line of sight
-  /// From a fix: its stars and the per-star sigma implied by its camera covariance.
+  /// From a fix: its stars and the per-star sigma (its covariance's or its residuals').
   static RateFrame of(double t_s, const std::vector<MatchedStar>& stars, const Mat3& cov_cam);
 };
 
