@@ -57,7 +57,7 @@ bool MekfOptions::isValid(std::string* error) const {
   if (!(rate_walk_rad_s2_rt_hz >= 0) || !std::isfinite(rate_walk_rad_s2_rt_hz))
     return fail("rate_walk_rad_s2_rt_hz must be >= 0");
   if (!(initial_rate_sigma_rad_s > 0) || !std::isfinite(initial_rate_sigma_rad_s))
-    return fail("initial_rate_sigma_rad_s must be > 0");
+    return fail("initial_rate_sigma_rad_s ([filter] rate_sigma_deg_s) must be > 0");
   return true;
 }
 

@@ -145,5 +145,27 @@ TEST(ReplayGyroless, CameraOnlySlewTracksFromFrameTwo) {
   EXPECT_NEAR(ry, 2.0, 3 * sy) << "sigma " << sy;
 }
 
+// Bad [filter] values of the gyroless keys: exit 2 with the file, section, key and value.
+TEST(ReplayGyroless, BadGyrolessKeysAreInputErrorsNamingTheKey) {
+  const std::string dir = test::makeTempDir("replay_gyroless_bad");
+  const std::string rawlog = test::repoDir() + "/rawlogs/slew_2dps.rawlog";
+  struct Case {
+    std::string line, expect;
+  };
+  for (const Case& c : {Case{"model = gyrolss", "model"},
+                        Case{"rate_walk_rad_s2_rt_hz = -1e-3", "rate_walk_rad_s2_rt_hz"},
+                        Case{"rate_sigma_deg_s = 0", "rate_sigma_deg_s"}}) {
+    const std::string ini = dir + "/bad.ini";
+    std::ofstream(ini) << "[filter]\n" << c.line << "\n";
+    std::string out;
+    EXPECT_EQ(test::runCommand(test::startrackerExe() + " replay -q " + rawlog + " --config " + ini,
+                               &out),
+              2)
+        << c.line << "\n" << out;
+    EXPECT_NE(out.find(c.expect), std::string::npos) << out;
+    EXPECT_NE(out.find("filter"), std::string::npos) << out;
+  }
+}
+
 }  // namespace
 }  // namespace st
