@@ -219,8 +219,10 @@ class LiveSession {
                   replay_config_.c_str());
     }
     for (const auto& w : nav_->warnings()) log::warn("%s", w.c_str());
-    const std::vector<NavStep> steps = nav_->steps();
+    std::vector<NavStep> steps = nav_->steps();
+    fillTruthRates(steps);
     printNavigationSummary(steps, stdout);
+    printRateSummary(steps, stdout);
     printIntegritySummary(steps, stdout);
     if (!args_.csv.empty()) {
       const int rows = writeNavStepCsv(steps, args_.csv);
