@@ -126,7 +126,8 @@ class AttitudeMekf {
   /// fix's error is independent of it). Before initialisation it is initialize().
   void resetAttitude(double t, const Quat& q_ib, const Mat3& attitude_cov);
 
-  /// Propagates to t1 with the gyro's mean measured rate over [time(), t1] [rad/s].
+  /// Propagates to t1 with the gyro's mean measured rate over [time(), t1] [rad/s] (gyroless:
+  /// at the state's rate; the argument is not used).
   /// Returns false (filter unchanged, reason in *why) if not initialized or t1 <= time().
   bool propagate(const Vec3& gyro_rate, double t1, std::string* why = nullptr);
   /// Propagates to t without a gyro sample (a gap): holds the last measured rate.
