@@ -7,6 +7,9 @@
 #include <mrpt/math/CQuaternion.h>
 #include <mrpt/poses/CPose3DQuat.h>
 
+#include <chrono>
+#include <cmath>
+
 #include "common/attitude.hpp"
 #include "common/conventions.hpp"
 
@@ -31,6 +34,17 @@ inline Quat fromPose3DQuat(const mrpt::poses::CPose3DQuat& p) { return fromMrpt(
 /// Julian year of an MRPT timestamp (for catalog epoch propagation).
 inline double julianYear(const mrpt::Clock::time_point& t) {
   return julianYearFromUnixSeconds(mrpt::Clock::toDouble(t));
+}
+
+/// The timestamp `t` seconds after the Unix time `start_unix_s`, exact to the clock tick
+/// (the whole seconds are converted apart from the fraction, which a double of ~1.7e9 s
+/// would round to ~0.2 us). Every clock built from a start time and an offset (a scenario,
+/// a camera folder of known frame rate) stamps through here, so equal times are equal ticks.
+inline mrpt::Clock::time_point timestampAfter(double start_unix_s, double t) {
+  const double whole = std::floor(start_unix_s);
+  const auto t0 = mrpt::Clock::fromDouble(whole);
+  const std::chrono::duration<double> offset(start_unix_s - whole + t);
+  return t0 + std::chrono::duration_cast<mrpt::Clock::duration>(offset);
 }
 
 }  // namespace st

@@ -61,6 +61,9 @@ struct NavStep {
   /// Matched stars named after one member of an unresolved pair (< 2 PSF sigma apart) while
   /// the other member is nearer to the centroid: one image peak, either name is right.
   int blend_claims = 0;
+  /// The identities were scored (the truth lists the frame's stars; a truth of the motion
+  /// alone, e.g. from a simulated gyro beside a folder of frames, cannot score them).
+  bool ids_scored = false;
   /// The true body rate at t: central difference of the neighbouring GROUND_TRUTH attitudes
   /// (fillTruthRates), and the filter's error against it (initialized && has_true_rate).
   bool has_true_rate = false;

@@ -29,7 +29,7 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
   // filter state; its output is the raw fixes, scored in the filter's place.
   const bool filtered =
       std::any_of(steps.begin(), steps.end(), [](const NavStep& s) { return s.initialized; });
-  long matched_with_truth = 0, misidentified = 0, blend_claims = 0;
+  long matched_with_truth = 0, misidentified = 0, blend_claims = 0, unscored = 0;
   std::vector<double> cross, roll, nees, fix_err, filt_err, fix_nees, unfiltered_err;
   for (const NavStep& s : steps) {
     // Fixes of a filtered run made while the filter held no state (suspended: gyro lost).
@@ -51,7 +51,8 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
       fix_err.push_back(rad2arcsec(s.fix_error.total));
       fix_nees.push_back(s.fix_nees);
     }
-    if (s.has_truth && s.fix) {
+    if (s.has_truth && s.fix && !s.ids_scored) ++unscored;
+    if (s.has_truth && s.fix && s.ids_scored) {
       matched_with_truth += s.stars_matched;
       misidentified += s.misidentified;
       blend_claims += s.blend_claims;
@@ -114,6 +115,9 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
                 "an unresolved pair\n",
                 matched_with_truth, misidentified, blend_claims);
   }
+  if (unscored > 0)
+    std::fprintf(out, "  identification: not scored on %ld frame(s) whose truth lists no stars\n",
+                 unscored);
 }
 
 }  // namespace st

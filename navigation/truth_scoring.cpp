@@ -46,7 +46,10 @@ void scoreTruth(NavStep& s, const mrpt::obs::CObservation6DFeatures& obs,
     s.fix_error = attitudeError(s.q_fix, s.q_true);
     s.fix_nees = attitudeNees(s.q_fix, s.cov_fix, s.q_true);
   }
-  if (fix && !truth.stars.empty()) scoreIdentities(*fix, truth, s);
+  if (fix && !truth.stars.empty()) {
+    scoreIdentities(*fix, truth, s);
+    s.ids_scored = true;
+  }
 }
 
 }  // namespace st

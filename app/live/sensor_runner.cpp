@@ -1,5 +1,6 @@
 #include "app/live/sensor_runner.hpp"
 
+#include "sensors/mrpt/image_source.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -186,6 +187,12 @@ void SensorRunner::loop() {
           t && t->sourceFinished()) {
         state_ = State::kFinished;
         queue_.report(who + " finished: its source has no more frames");
+        return;
+      }
+      if (const auto* f = dynamic_cast<const FiniteSensor*>(spec_.sensor.get());
+          f && f->finished()) {
+        state_ = State::kFinished;
+        queue_.report(who + " finished: it has no more data");
         return;
       }
     } catch (const std::exception& e) {

@@ -54,8 +54,9 @@ std::vector<SensorSpec> createSensors(const mrpt::config::CConfigFileBase& cfg,
 
 class SensorRunner {
  public:
-  /// kFinished: the sensor's source has no more data (a star tracker's folder of frames or
-  /// simulated scenario ended); not a failure.
+  /// kFinished: the sensor or its source has no more data (a star tracker's folder of
+  /// frames or simulated scenario ended, a FiniteSensor such as the simulated gyro at its
+  /// scenario's end); not a failure.
   enum class State { kStarting, kRunning, kFailed, kStopped, kFinished };
 
   SensorRunner(SensorSpec spec, ObservationQueue& queue);

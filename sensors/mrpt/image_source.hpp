@@ -22,13 +22,19 @@ struct ImageSourceFacts {
   std::optional<double> epoch_jyear;  ///< of the sky it shows
 };
 
-class StarImageSource {
+/// A sensor whose data ends (a scenario played to its end, a folder of frames): the live
+/// app stops when every sensor has finished or failed, instead of waiting for Ctrl-C.
+class FiniteSensor {
  public:
-  virtual ~StarImageSource() = default;
+  virtual ~FiniteSensor() = default;
+  /// True when the sensor will deliver nothing more.
+  virtual bool finished() const = 0;
+};
+
+class StarImageSource : public FiniteSensor {
+ public:
   /// Available after loadConfig(); throws InputError naming the file for a bad one.
   virtual ImageSourceFacts facts() const = 0;
-  /// True when the source has no more frames (a finished simulated scenario).
-  virtual bool finished() const = 0;
 };
 
 }  // namespace st

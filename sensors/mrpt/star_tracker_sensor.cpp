@@ -7,6 +7,7 @@
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
@@ -16,6 +17,7 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/mrpt_convert.hpp"
+#include "common/utc_time.hpp"
 #include "config/ini_reader.hpp"
 #include "catalog/database_recipe.hpp"
 #include "sensors/mrpt/image_source.hpp"
@@ -80,6 +82,7 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
     if (!cfg.sectionExists(cam_section)) {
       throw InputError(r.where(section, "camera_section") + ": no section '" + cam_section + "'");
     }
+    readFrameClock(r, section, keys);
     auto cam = std::make_unique<mrpt::hwdrivers::CCameraSensor>();
     cam->loadConfig(cfg, cam_section);
     source_ = std::move(cam);
@@ -87,6 +90,10 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
     throw InputError(r.where(section, "image_source") + ": unknown value '" + source_kind_ +
                      "' (simulated | camera)");
   }
+  if (source_kind_ != "camera" && (keys.frame_rate_hz != 0 || !keys.frame_start_time.empty()))
+    throw InputError(r.where(section, keys.frame_rate_hz != 0 ? "frame_rate_hz" : "frame_start_time") +
+                     ": only with image_source = camera (a simulated camera stamps its "
+                     "scenario's clock)");
   if (source_) source_->setSensorLabel(image_label_);
   if (!camera_file_.empty() && !mrpt::system::fileExists(camera_file_)) {
     throw InputError(r.where(section, "camera_file") + ": no such file '" + camera_file_ + "'");
@@ -113,6 +120,29 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   has_gain_ = r.has(section, "gain_e_per_adu");
   has_read_noise_ = r.has(section, "read_noise_adu");
   opts_ = o;
+}
+
+void CStarTrackerSensor::readFrameClock(const IniReader& r, const std::string& section,
+                                        const StarTrackerSensorKeys& keys) {
+  frame_rate_hz_ = keys.frame_rate_hz;
+  frame_start_unix_s_.reset();
+  if (!std::isfinite(frame_rate_hz_) || frame_rate_hz_ < 0)
+    throw InputError(r.where(section, "frame_rate_hz") + ": must be >= 0 (0 = the grabber's clock)");
+  if (keys.frame_start_time.empty()) return;
+  if (frame_rate_hz_ == 0)
+    throw InputError(r.where(section, "frame_start_time") + ": needs frame_rate_hz > 0");
+  frame_start_unix_s_ = parseUtc(keys.frame_start_time, r.where(section, "frame_start_time"));
+  // The sky of a recording is the recording's: its date is the database's epoch unless the
+  // section sets one.
+  if (keys.epoch_jyear == 0) epoch_jyear_ = julianYearFromUnixSeconds(*frame_start_unix_s_);
+}
+
+void CStarTrackerSensor::restamp(mrpt::obs::CObservationImage& img) {
+  if (frame_rate_hz_ <= 0) return;
+  if (!frame_start_unix_s_) frame_start_unix_s_ = mrpt::Clock::toDouble(img.timestamp);
+  // k / rate as a scenario computes its frame times: a folder rendered from one replays on
+  // its clock to the tick (the simulated gyro and truth beside it).
+  img.timestamp = timestampAfter(*frame_start_unix_s_, clock_frames_++ / frame_rate_hz_);
 }
 
 void CStarTrackerSensor::setPathForExternalImages(const std::string& directory) {
@@ -235,6 +265,7 @@ void CStarTrackerSensor::doProcess() {
       out.push_back(obj);
       continue;
     }
+    if (source_kind_ == "camera") restamp(*img);
     cv::Mat frame = img->image.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
     if (frame.channels() == 3) {
       cv::Mat grey;

@@ -16,6 +16,10 @@
 ///     camera:     camera_section = SECTION (default: this section) with the keys of
 ///                 mrpt::hwdrivers::CCameraSensor (grabber_type = opencv | ffmpeg |
 ///                 image_dir | ..., cv_camera_index, ffmpeg_url, image_dir_url, ...).
+///                 frame_rate_hz, frame_start_time: a recording (an image folder, a video)
+///                 is stamped on its own clock, frame k at start + k / rate, instead of
+///                 when the grabber reads it (MRPT's grabbers stamp the wall clock); the
+///                 start's date is then the database's epoch unless epoch_jyear is set.
 ///   image_label   = CAMERA        label of the emitted frames
 ///   emit_image    = true          also emit the frames (external PNGs when the grabber sets
 ///                                 an external images path, as rawlog-grabber does)
@@ -56,6 +60,8 @@
 namespace st {
 
 class StarDatabase;
+struct IniReader;
+struct StarTrackerSensorKeys;
 
 class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   DEFINE_GENERIC_SENSOR(CStarTrackerSensor)
@@ -117,10 +123,18 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   void processFrame(mrpt::obs::CObservationImage& image_obs, const cv::Mat& image,
                     std::vector<mrpt::serialization::CSerializable::Ptr>& out);
   void updateCameraReport();
+  /// The frame_rate_hz / frame_start_time keys: a recording played by the grabber is stamped
+  /// on its own clock (frame k at start + k / rate), not when it is read.
+  void readFrameClock(const IniReader& r, const std::string& section,
+                      const StarTrackerSensorKeys& keys);
+  void restamp(mrpt::obs::CObservationImage& img);
 
   // configuration
   std::string section_;
   std::string source_kind_;  // "simulated" | "camera"
+  double frame_rate_hz_ = 0;  // 0: the grabber's stamps
+  std::optional<double> frame_start_unix_s_;
+  int clock_frames_ = 0;
   std::string image_label_ = "CAMERA";
   bool emit_image_ = true;
   std::string camera_file_, camera_file_section_ = "camera";

@@ -26,6 +26,12 @@ const SectionSchema<StarTrackerSensorKeys>& starTrackerSensorSchema() {
           .add("camera_file_section", &K::camera_file_section, "section of an .ini camera_file")
           .add("camera_section", &K::camera_section,
                "image_source = camera: section of MRPT's CCameraSensor keys; empty = this one")
+          .add("frame_rate_hz", &K::frame_rate_hz,
+               "image_source = camera: [Hz] stamp frame k at frame_start_time + k / rate (a "
+               "recorded folder or video); 0 = the grabber's clock")
+          .add("frame_start_time", &K::frame_start_time,
+               "with frame_rate_hz: UTC of frame 0, YYYY-MM-DDTHH:MM:SS; empty = the first "
+               "frame's grabber stamp")
           .add("scenario_file", &K::scenario_file, "image_source = simulated: the scenario played")
           .add("seed", &K::seed, "image_source = simulated: run seed; empty = the scenario's")
           .add("truth_label", &K::truth_label, "image_source = simulated: label of the truth")

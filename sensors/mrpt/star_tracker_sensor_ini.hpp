@@ -29,6 +29,9 @@ struct StarTrackerSensorKeys {
   bool emit_image = true;
   std::string camera_file, camera_file_section = "camera";
   std::string camera_section;  ///< empty: this section
+  /// camera: a recording's clock instead of the grabber's (frame k at start + k / rate)
+  double frame_rate_hz = 0;
+  std::string frame_start_time;  ///< UTC of frame 0; empty = the first frame's grabber stamp
   // simulated: CSimulatedStarCamera's keys, read by it from this section
   std::string scenario_file, seed, truth_label = "GROUND_TRUTH";
   // the star database

@@ -4,35 +4,16 @@
 
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
-#include <sstream>
 
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/mrpt_convert.hpp"
 #include "sensors/sim/random_streams.hpp"
 
 namespace st {
-
-double parseUtc(const std::string& text, const std::string& where) {
-  int Y = 0, M = 0, D = 0, h = 0, m = 0;
-  double s = 0;
-  char sep = 0;
-  if (std::sscanf(text.c_str(), "%d-%d-%d%c%d:%d:%lf", &Y, &M, &D, &sep, &h, &m, &s) != 7 ||
-      (sep != 'T' && sep != ' ') || M < 1 || M > 12 || D < 1 || D > 31 || h < 0 || h > 23 ||
-      m < 0 || m > 59 || s < 0 || s >= 61)
-    throw InputError(where + ": '" + text + "' is not a UTC time YYYY-MM-DDTHH:MM:SS");
-  std::tm tm{};
-  tm.tm_year = Y - 1900;
-  tm.tm_mon = M - 1;
-  tm.tm_mday = D;
-  tm.tm_hour = h;
-  tm.tm_min = m;
-  const double whole = static_cast<double>(timegm(&tm));
-  return whole + s;
-}
 
 Scenario Scenario::load(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
@@ -56,10 +37,7 @@ int Scenario::gyroSampleCount() const {
 double Scenario::epochJyear() const { return julianYearFromUnixSeconds(start_unix_s); }
 
 mrpt::Clock::time_point Scenario::timestamp(double t) const {
-  const double whole = std::floor(start_unix_s);
-  const auto t0 = mrpt::Clock::fromDouble(whole);
-  const std::chrono::duration<double> offset(start_unix_s - whole + t);
-  return t0 + std::chrono::duration_cast<mrpt::Clock::duration>(offset);
+  return timestampAfter(start_unix_s, t);
 }
 
 void Scenario::limitFrames(int n) {

@@ -120,9 +120,6 @@ struct Scenario {
   void limitFrames(int n);
 };
 
-/// Parses "YYYY-MM-DDTHH:MM:SS[.fff]" (UTC; 'T' or ' ') into Unix seconds; InputError if bad.
-double parseUtc(const std::string& text, const std::string& where);
-
 /// Builds the in-memory star database a scenario renders from (the catalog of
 /// `catalog_path` or the default one, at the scenario's epoch, V <= mag_limit).
 std::shared_ptr<const StarDatabase> buildScenarioDatabase(const Scenario& sc);

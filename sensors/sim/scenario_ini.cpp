@@ -6,6 +6,7 @@
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/utc_time.hpp"
 #include "sensors/sim/scenario.hpp"
 
 namespace st {

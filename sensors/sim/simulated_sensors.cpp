@@ -29,6 +29,7 @@ SimulatedSensorKeys defaultKeys(bool camera) {
   SimulatedSensorKeys k;
   k.driver = camera ? kCameraDriver : kGyroDriver;
   k.sensorLabel = camera ? kCameraLabel : kGyroLabel;
+  if (!camera) k.truth_label.clear();  // the gyro emits the truth only when asked
   return k;
 }
 
@@ -42,7 +43,7 @@ SimulatedSensorKeys readKeys(const IniReader& r, const std::string& section, boo
   } else {
     k.scenario_file = r.str(section, "scenario_file", "");
     k.seed = r.str(section, "seed", "");
-    if (camera) k.truth_label = r.str(section, "truth_label", k.truth_label);
+    k.truth_label = r.str(section, "truth_label", k.truth_label);
   }
   if (k.scenario_file.empty()) throw InputError(r.whereKey(section, "scenario_file") + ": missing key");
   if (!k.seed.empty()) r.uint64(section, "seed", 0);  // a bad seed fails here, naming the key
@@ -99,8 +100,10 @@ const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera) {
                       "scenario .ini played (relative: working dir, else this file's folder)")
                  .required()
                  .add("seed", &K::seed, "run seed; empty = the scenario's seed");
-    if (cam)
-      s.add("truth_label", &K::truth_label, "label of the truth emitted per frame; empty = none");
+    s.add("truth_label", &K::truth_label,
+          cam ? "label of the truth emitted per frame; empty = none"
+              : "label of the scenario's attitude truth at its frame times (for frames "
+                "from elsewhere: a folder rendered from the scenario); empty = none");
     return s;
   };
   static const auto camera_schema = make(true), gyro_schema = make(false);
@@ -208,6 +211,7 @@ void CSimulatedGyro::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBa
   const SimulatedSensorKeys k = readKeys(r, section, false);
   scenario_file_ = resolveScenarioFile(cfg, k.scenario_file);
   seed_ = optionalSeed(r, section, k);
+  truth_label_ = k.truth_label;
 }
 
 void CSimulatedGyro::initialize() {
@@ -216,6 +220,7 @@ void CSimulatedGyro::initialize() {
   if (!scenario_->gyro)
     throw InputError(scenario_file_ + ": the scenario has no [gyro] section for CSimulatedGyro");
   stream_ = std::make_unique<GyroStream>(*scenario_, seed_.value_or(scenario_->seed));
+  next_truth_ = 0;
   done_ = false;
   m_state = ssWorking;
 }
@@ -229,10 +234,24 @@ void CSimulatedGyro::doProcess() {
       done_ = true;
       break;
     }
+    appendTruthsUpTo(g.t);
     appendObservation(makeGyroObservation(g.rate, scenario_->timestamp(g.t), m_sensorLabel));
     ++emitted_;
   }
   if (stream_->nextTime() > scenario_->duration_s + 1e-9) done_ = true;
+  if (done_) appendTruthsUpTo(scenario_->duration_s);
+}
+
+void CSimulatedGyro::appendTruthsUpTo(double t) {
+  if (truth_label_.empty()) return;
+  const Scenario& sc = *scenario_;
+  // The attitude only (no rendered stars): identities cannot be scored from it. On the
+  // scenario's clock without its camera-clock faults: the truth is of the motion.
+  for (; next_truth_ < sc.frameCount() && sc.frameTime(next_truth_) <= t; ++next_truth_) {
+    const double tk = sc.frameTime(next_truth_);
+    appendObservation(makeTruthObservation(canonical(sc.motion->attitude(tk)), {},
+                                           sc.timestamp(tk), truth_label_));
+  }
 }
 
 }  // namespace st

@@ -14,8 +14,12 @@
 ///   scenario_file = path/to/scenario.ini   (required; relative to the working directory,
 ///                                           else to the folder of the .ini file)
 ///   seed = N                                (default: the scenario's seed)
-///   truth_label = GROUND_TRUTH              (camera only: also emit the truth per frame
-///                                            with this label; empty = no truth)
+///   truth_label = GROUND_TRUTH              (camera: also emit the truth per frame with this
+///                                            label; empty = no truth. Gyro: default empty;
+///                                            set, the gyro emits the scenario's attitude at
+///                                            its frame times, without stars, for frames that
+///                                            come from elsewhere, e.g. a folder rendered
+///                                            from the scenario played by a real grabber)
 /// process_rate must be at least the frame rate (camera) or gyro rate (gyro) to keep up.
 /// The section is read strictly (simulatedSensorSchema): an unknown key is an error with
 /// the nearest valid key, unless the section's driver is another class (CStarTrackerSensor
@@ -43,7 +47,7 @@ struct SimulatedSensorKeys {
   std::string sensorLabel;
   std::string scenario_file;
   std::string seed;  ///< empty = the scenario's seed
-  std::string truth_label = "GROUND_TRUTH";  ///< camera only
+  std::string truth_label = "GROUND_TRUTH";  ///< the gyro's default is empty (no truth)
 };
 /// The schema for CSimulatedStarCamera (`camera`) or CSimulatedGyro.
 const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera);
@@ -83,7 +87,7 @@ class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor, public Star
   int next_frame_ = 0, emitted_ = 0, skipped_ = 0;
 };
 
-class CSimulatedGyro : public mrpt::hwdrivers::CGenericSensor {
+class CSimulatedGyro : public mrpt::hwdrivers::CGenericSensor, public FiniteSensor {
   DEFINE_GENERIC_SENSOR(CSimulatedGyro)
  public:
   CSimulatedGyro();
@@ -92,17 +96,21 @@ class CSimulatedGyro : public mrpt::hwdrivers::CGenericSensor {
   void doProcess() override;
 
   int samplesEmitted() const { return emitted_; }
-  bool finished() const { return done_; }
+  bool finished() const override { return done_; }
 
  protected:
   void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
                                  const std::string& section) override;
 
  private:
+  void appendTruthsUpTo(double t);
+
   std::string scenario_file_;
   std::optional<uint64_t> seed_;
   std::unique_ptr<Scenario> scenario_;
   std::unique_ptr<GyroStream> stream_;
+  std::string truth_label_;  // empty: no truth
+  int next_truth_ = 0;       // the next frame time whose truth is due
   int emitted_ = 0;
   bool done_ = false;
 };

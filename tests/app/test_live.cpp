@@ -24,6 +24,7 @@
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
 #include "sensors/sim/sim_observations.hpp"
+#include "tests/app/live_cli_util.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
@@ -38,69 +39,7 @@ std::string copyConfig(const std::string& dir) {
   return dst;
 }
 
-struct Summary {
-  std::string rawlog;
-  std::size_t total = 0;
-  std::map<std::string, std::size_t> per_label;
-  int frames = -1, solved = -1, tracking = -1;
-};
-
-Summary parseSummary(const std::string& out) {
-  Summary s;
-  std::smatch m;
-  if (std::regex_search(out, m, std::regex(R"(rawlog: (.+), (\d+) observations)"))) {
-    s.rawlog = m[1];
-    s.total = std::stoul(m[2]);
-  }
-  std::istringstream in(out);
-  std::string line;
-  const std::regex label(R"(^  (\S+)\s+(\d+)$)");
-  while (std::getline(in, line)) {
-    if (std::regex_match(line, m, label)) s.per_label[m[1]] = std::stoul(m[2]);
-  }
-  if (std::regex_search(out, m,
-                        std::regex(R"(star tracker: (\d+) frames, (\d+) solved .*, (\d+) tracking)"))) {
-    s.frames = std::stoi(m[1]);
-    s.solved = std::stoi(m[2]);
-    s.tracking = std::stoi(m[3]);
-  }
-  return s;
-}
-
-/// Column `name` of a CSV with a header, for rows whose column `filter` is 1, skipping the
-/// first `skip` of those rows.
-std::vector<double> csvColumn(const std::string& path, const std::string& name,
-                              const std::string& filter, std::size_t skip) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  auto split = [](const std::string& l) {
-    std::vector<std::string> f;
-    std::stringstream ss(l);
-    std::string x;
-    while (std::getline(ss, x, ',')) f.push_back(x);
-    return f;
-  };
-  const std::vector<std::string> head = split(line);
-  const auto col = [&](const std::string& n) {
-    return std::size_t(std::find(head.begin(), head.end(), n) - head.begin());
-  };
-  const std::size_t c = col(name), cf = col(filter);
-  std::vector<double> v;
-  std::size_t seen = 0;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> f = split(line);
-    if (f.size() != head.size() || f[cf] != "1") continue;
-    if (seen++ >= skip) v.push_back(std::stod(f[c]));
-  }
-  return v;
-}
-
-double fractionBelow(const std::vector<double>& nees, double p) {
-  const double q = chiSquareQuantile(p, 3.0);
-  return double(std::count_if(nees.begin(), nees.end(), [&](double v) { return v <= q; })) /
-         double(nees.size());
-}
+using test::csvColumn;
 
 TEST(Live, SixtySecondsOnSimulatedSensorsAreConsistentAndKeepEveryObservation) {
   const std::string dir = test::makeTempDir("live60");
@@ -114,7 +53,7 @@ TEST(Live, SixtySecondsOnSimulatedSensorsAreConsistentAndKeepEveryObservation) {
                                   &out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_THAT(out, ::testing::HasSubstr("stopped by SIGINT")) << out;
-  const Summary s = parseSummary(out);
+  const test::LiveSummary s = test::parseLiveSummary(out);
   ASSERT_EQ(s.rawlog, rawlog) << out;
   ASSERT_GT(s.total, 0u) << out;
 
@@ -166,17 +105,10 @@ TEST(Live, SixtySecondsOnSimulatedSensorsAreConsistentAndKeepEveryObservation) {
   // effective samples and 3 binomial sigma.
   const std::vector<double> nees = csvColumn(csv, "nees", "has_truth", 10);
   ASSERT_GE(nees.size(), 300u) << out;
-  const double n_eff = double(nees.size()) / 10.0;
-  const double tol50 = 3.0 * std::sqrt(0.25 / n_eff), tol95 = 3.0 * std::sqrt(0.0475 / n_eff);
-  std::printf("live filter NEES: %.3f below the chi2(3) median (+-%.3f), %.3f below its 95 %% "
-              "point (+-%.3f), %zu frames\n",
-              fractionBelow(nees, 0.5), tol50, fractionBelow(nees, 0.95), tol95, nees.size());
-  EXPECT_NEAR(fractionBelow(nees, 0.5), 0.5, tol50);
-  EXPECT_NEAR(fractionBelow(nees, 0.95), 0.95, tol95);
-  // Teeth: the same errors against a covariance 4x too small fail it.
-  std::vector<double> over(nees);
-  for (double& v : over) v *= 4.0;
-  EXPECT_GT(std::abs(fractionBelow(over, 0.5) - 0.5), tol50);
+  bool in_band = false;
+  const std::string report = test::neesFractionsInBand(nees, &in_band);
+  std::printf("live %s\n", report.c_str());
+  EXPECT_TRUE(in_band) << report;
 
   // The frames are external PNGs beside the rawlog, and load.
   for (const auto& o : all) {
@@ -387,7 +319,7 @@ TEST(Live, SensorThatFailsToStartIsNamedAndTheOthersKeepRecording) {
   EXPECT_EQ(rc, 0) << out;
   EXPECT_THAT(out, ::testing::HasSubstr("sensor 'BAD_GYRO'"));
   EXPECT_THAT(out, ::testing::HasSubstr("failed to start"));
-  const Summary s = parseSummary(out);
+  const test::LiveSummary s = test::parseLiveSummary(out);
   EXPECT_GE(s.per_label.at("GYRO"), 200u) << out;  // ~3 s at 100 Hz from the good one
   EXPECT_EQ(readRawlog(dir + "/two.rawlog").size(), s.total);
 }

@@ -13,6 +13,7 @@
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/utc_time.hpp"
 #include "sensors/sim/rawlog_writer.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/sim_observations.hpp"
