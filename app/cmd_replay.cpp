@@ -224,15 +224,20 @@ int runReplay(const ReplayOpts& o) {
   checkImages(obs, o, cfg.nav.camera_label);
   // Without a gyro nothing carries the attitude from one frame to the next: a filter fed fixes
   // alone lags a moving body until its gate refuses every fix (issue 21: 1.7 deg off on the
-  // tour's slew). Until gyroless tracking exists, each frame is solved on its own.
+  // tour's slew). Unless the ini asks for the gyroless filter, each frame is solved on its own.
   const bool has_gyro = std::any_of(obs.begin(), obs.end(), [&](const auto& ob) {
     return isGyroObservation(*ob, cfg.nav);
   });
-  if (!has_gyro) {
+  if (!has_gyro && cfg.nav.fusion.filter.model == MekfOptions::Model::kGyroless) {
+    log::info("no %s observations: gyroless filter ([filter] model = gyroless): the body rate "
+              "is estimated from the fixes",
+              cfg.nav.gyro_label.c_str());
+  } else if (!has_gyro) {
     log::warn(
         "no %s observations: without gyro rates there is no attitude "
         "filter; every frame is solved lost-in-space and the raw fixes are the output "
-        "(the CSV's filter columns are nan, no filter NEES)",
+        "(the CSV's filter columns are nan, no filter NEES; [filter] model = gyroless "
+        "estimates the rate from the fixes)",
         cfg.nav.gyro_label.c_str());
     cfg.nav.fusion.filter_enabled = false;
   }
@@ -279,7 +284,8 @@ int runReplay(const ReplayOpts& o) {
     log::info("... %d warnings in all", nav.warningCount());
 
   // ---- summary ----
-  const auto& steps = nav.steps();
+  std::vector<NavStep> steps = nav.steps();
+  fillTruthRates(steps);
   int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
   double frame_time = 0;
   for (const NavStep& s : steps) {
@@ -305,6 +311,7 @@ int runReplay(const ReplayOpts& o) {
   std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
               frames ? 1e3 * frame_time / frames : 0.0, frames / std::max(wall_s, 1e-9));
   printNavigationSummary(steps, stdout);
+  printRateSummary(steps, stdout);
   printIntegritySummary(steps, stdout);
 
   if (!o.csv.empty()) {

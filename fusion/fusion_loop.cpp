@@ -91,6 +91,12 @@ void FusionLoop::warn(const std::string& msg) {
 // ---- events ----------------------------------------------------------------------------
 
 void FusionLoop::pushGyro(double t, const Vec3& rate_gyro) {
+  if (gyroless()) {
+    if (gyro_ignored_++ == 0)
+      warn("gyro samples (first at " + formatLoopTime(t) +
+           ") not used: the filter model is gyroless");
+    return;
+  }
   Event e{t, kGyro, 0, 0, opts_.R_body_gyro * rate_gyro, std::nullopt, {}};
   push(std::move(e));
 }
@@ -386,7 +392,7 @@ FrameInputs FusionLoop::frameInputs(double t) const {
     AttitudePrediction a;
     a.q_ib = p.q_ib;
     a.cov_body = p.attitudeCov();
-    a.rate_body = meanRate(t, ahead) - p.bias;
+    a.rate_body = gyroless() ? p.rate : Vec3(meanRate(t, ahead) - p.bias);
     in.prediction = a;
     return in;
   }
@@ -443,11 +449,17 @@ FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u)
   if (!opts_.filter_enabled || gyro_lost_ || gyro_unhealthy_) return FixUse::kUnfiltered;
   const bool lis = fix.mode == StarTrackerMode::kLostInSpace;
   if (!filter_.initialized()) {
-    filter_.initialize(t, fix.q_ib, fix.cov_body);
+    initializeFrom(t, fix);
     return FixUse::kInitialized;
   }
   if (reinit_pending_) {
     if (!lis) return FixUse::kIgnored;
+    if (gyroless()) {
+      initializeFrom(t, fix);
+      reinit_pending_ = filter_suspended_ = false;
+      ++reinits_;
+      return FixUse::kReinitialized;
+    }
     // Keep what the filter learned about the bias; the attitude restarts from the fix.
     filter_.resetAttitude(t, fix.q_ib, fix.cov_body);
     reinit_pending_ = filter_suspended_ = false;
@@ -464,6 +476,19 @@ FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u)
     reinit_pending_ = true;
   }
   return FixUse::kRejected;
+}
+
+void FusionLoop::initializeFrom(double t, const FrameResult& fix) {
+  if (!gyroless() || !fix.rate) {
+    filter_.initialize(t, fix.q_ib, fix.cov_body);
+    return;
+  }
+  // The fix's own frame-to-frame rate starts the rate state (its covariance the prior): the
+  // first fix of a run has none (zero rate, the options' prior sigma).
+  Mat6 P = Mat6::Zero();
+  P.topLeftCorner<3, 3>() = fix.cov_body;
+  P.bottomRightCorner<3, 3>() = fix.rate->cov_body;
+  filter_.initialize(t, fix.q_ib, fix.rate->rate_body, P);
 }
 
 MekfUpdateResult FusionLoop::update(const FrameResult& fix) {
@@ -497,12 +522,16 @@ FilterState FusionLoop::stateAt(double t) const {
     s.q_ib = filter_.attitude();
     s.bias = filter_.bias();
     s.P = filter_.covariance();
+    s.rate = filter_.rate();
   } else {
     const MekfPrediction p = filter_.predictAt(t);
     s.q_ib = p.q_ib;
     s.bias = p.bias;
     s.P = p.P;
+    s.rate = p.rate;
   }
+  s.gyroless = gyroless();
+  if (s.gyroless) s.bias.setZero();
   s.q_ib = canonical(s.q_ib);
   return s;
 }

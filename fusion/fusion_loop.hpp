@@ -39,6 +39,14 @@
 ///    lost-in-space fix, keeping the bias (AttitudeMekf::resetAttitude). Tracking fixes made
 ///    before that request was seen are not used;
 ///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector;
+///  - gyroless (filter.model kGyroless, fusion/gyroless_model.hpp): the filter's state holds
+///    the body rate and propagates itself between frames; gyro samples are not used (one
+///    warning). Its prediction (attitude, covariance, rate) is handed to the tracker as the
+///    gyro path's is, so the frame after the first fix already tracks. A re-initialisation
+///    restarts the rate too (a rate gone wrong is what made the fixes disagree): from the
+///    fix's own frame-to-frame rate (FrameResult::rate) when it has one, else from zero with
+///    the prior sigma. The tracker's rate is not fed as an update (gyroless_model.hpp: it
+///    shares the fixes' noise);
 ///  - no filter (filter_enabled false, a run without gyro) or a gyro silent for longer than
 ///    max_gyro_coast_s: every frame lost-in-space, the fixes pass through unfiltered (a
 ///    suspended filter reports no state until it is re-initialised after the gyro returns).
@@ -94,9 +102,11 @@ std::string formatLoopTime(double t_s);
 /// The filter's state at a time, after any update there.
 struct FilterState {
   bool initialized = false;
+  bool gyroless = false;     ///< the second state block is the rate, not the bias
   Quat q_ib = Quat::Identity();
-  Vec3 bias = Vec3::Zero();  ///< [rad/s]
-  Mat6 P = Mat6::Zero();
+  Vec3 bias = Vec3::Zero();  ///< [rad/s] gyro bias (zero when gyroless)
+  Vec3 rate = Vec3::Zero();  ///< [rad/s] body rate: the state's (gyroless), else gyro - bias
+  Mat6 P = Mat6::Zero();     ///< [dtheta; db] or, gyroless, [dtheta; dw]
   Mat3 attitudeCov() const { return P.topLeftCorner<3, 3>(); }
 };
 
@@ -168,6 +178,7 @@ class FusionLoop {
   bool gyroHealthy() const { return !gyro_unhealthy_; }
   int gyroSpikes() const { return health_.spikes(); }
   int clockRefusedFrames() const { return clock_refused_; }
+  bool gyroless() const { return filter_.gyroless(); }
 
  private:
   enum Kind : int { kGyro = 0, kFrame = 1, kMarker = 2 };
@@ -197,6 +208,8 @@ class FusionLoop {
   void refuseFrame(Event& e);
   void onFrame(Event& e);
   FixUse useFix(double t, const FrameResult& fix, MekfUpdateResult& u);
+  /// (Re-)initialises the filter from a fix (gyroless: the rate from the fix's own rate).
+  void initializeFrom(double t, const FrameResult& fix);
   MekfUpdateResult update(const FrameResult& fix);
   void coastTo(double t);
   bool gyroStale(double t) const;
@@ -228,6 +241,7 @@ class FusionLoop {
   GyroHealth health_;
   std::optional<double> newest_gyro_t_;  // the gyro's timeline as pushed
   int clock_refused_ = 0;
+  int gyro_ignored_ = 0;  // samples of a gyroless run
   int gyro_since_frame_ = 0;  // gyro samples pushed since the last frame (arrival order)
   bool filter_suspended_ = false;  // since the gyro was lost, until re-initialised
   bool reinit_pending_ = false;

@@ -6,6 +6,7 @@
 
 #include "common/conventions.hpp"
 #include "fusion/consistency.hpp"
+#include "fusion/gyroless_model.hpp"
 
 namespace st {
 
@@ -23,6 +24,8 @@ const char* toString(MekfStep::Event e) {
       return "attitude_fix";
     case MekfStep::Event::kStarVectors:
       return "star_vectors";
+    case MekfStep::Event::kRate:
+      return "rate";
   }
   return "?";
 }
@@ -51,6 +54,10 @@ bool MekfOptions::isValid(std::string* error) const {
     return fail("gate_probability must be in (0, 1)");
   if (max_star_vectors < 1 || max_star_vectors > 256)
     return fail("max_star_vectors must be in [1, 256]");
+  if (!(rate_walk_rad_s2_rt_hz >= 0) || !std::isfinite(rate_walk_rad_s2_rt_hz))
+    return fail("rate_walk_rad_s2_rt_hz must be >= 0");
+  if (!(initial_rate_sigma_rad_s > 0) || !std::isfinite(initial_rate_sigma_rad_s))
+    return fail("initial_rate_sigma_rad_s ([filter] rate_sigma_deg_s) must be > 0");
   return true;
 }
 
@@ -77,8 +84,8 @@ void AttitudeMekf::initialize(double t, const Quat& q_ib, const Mat3& attitude_c
                               const Vec3& bias) {
   Mat6 P = Mat6::Zero();
   P.topLeftCorner<3, 3>() = attitude_cov;
-  P.bottomRightCorner<3, 3>() =
-      Mat3::Identity() * opt_.initial_bias_sigma_rad_s * opt_.initial_bias_sigma_rad_s;
+  const double s2 = gyroless() ? opt_.initial_rate_sigma_rad_s : opt_.initial_bias_sigma_rad_s;
+  P.bottomRightCorner<3, 3>() = Mat3::Identity() * s2 * s2;
   initialize(t, q_ib, bias, P);
 }
 
@@ -87,7 +94,7 @@ void AttitudeMekf::initialize(double t, const Quat& q_ib, const Vec3& bias, cons
   q_ = canonical(q_ib);
   b_ = bias;
   P_ = 0.5 * (P + P.transpose());
-  last_rate_ = bias;  // no rotation until the first gyro sample
+  last_rate_ = gyroless() ? Vec3::Zero() : bias;  // gyro: no rotation until the first sample
   initialized_ = true;
   consecutive_rejections_ = 0;
   record(MekfStep::Event::kInit, nullptr);
@@ -134,8 +141,17 @@ Mat6 AttitudeMekf::processNoise(double sv, double su, double dt) {
   return Q;
 }
 
-void AttitudeMekf::propagateState(State& s, const Vec3& gyro_rate, double dt, double sv,
-                                  double su) {
+void AttitudeMekf::propagateState(State& s, const Vec3& gyro_rate, double dt) const {
+  if (gyroless()) {
+    const Vec3 w = s.b;  // the state's rate, held over the step (fusion/gyroless_model.hpp)
+    s.q = canonical(s.q * quatExp(w * dt));
+    const Mat6 Phi = gyrolessTransition(w, dt);
+    const Mat6 P = Phi * s.P * Phi.transpose() + gyrolessProcessNoise(opt_.rate_walk_rad_s2_rt_hz, dt);
+    s.P = 0.5 * (P + P.transpose());
+    s.t += dt;
+    return;
+  }
+  const double sv = opt_.arw_rad_rt_s, su = opt_.rrw_rad_s_rt_s;
   const Vec3 w = gyro_rate - s.b;
   s.q = s.q * quatExp(w * dt);  // exact for a constant rate over the step
   s.q = canonical(s.q);
@@ -172,11 +188,11 @@ bool AttitudeMekf::propagate(const Vec3& gyro_rate, double t1, std::string* why)
     return false;
   }
   State s{t_, q_, b_, P_};
-  propagateState(s, gyro_rate, dt, opt_.arw_rad_rt_s, opt_.rrw_rad_s_rt_s);
+  propagateState(s, gyro_rate, dt);
   t_ = t1;  // exact, not accumulated
   q_ = s.q;
   P_ = s.P;
-  last_rate_ = gyro_rate;
+  if (!gyroless()) last_rate_ = gyro_rate;
   last_event_ = MekfStep::Event::kPropagate;
   return true;
 }
@@ -185,9 +201,8 @@ bool AttitudeMekf::predictTo(double t, std::string* why) { return propagate(last
 
 MekfPrediction AttitudeMekf::predictAt(double t) const {
   State s{t_, q_, b_, P_};
-  if (initialized_ && t != t_)
-    propagateState(s, last_rate_, t - t_, opt_.arw_rad_rt_s, opt_.rrw_rad_s_rt_s);
-  return {t, canonical(s.q), s.b, s.P};
+  if (initialized_ && t != t_) propagateState(s, last_rate_, t - t_);
+  return {t, canonical(s.q), s.b, s.P, gyroless() ? s.b : Vec3(last_rate_ - s.b)};
 }
 
 template <int Rows>
@@ -292,6 +307,24 @@ MekfUpdateResult AttitudeMekf::updateStarVectors(const std::vector<StarVectorMea
   return out;
 }
 
+MekfUpdateResult AttitudeMekf::updateRate(const Vec3& rate_body, const Mat3& cov) {
+  MekfUpdateResult out;
+  if (!initialized_) {
+    out.reason = "filter not initialized";
+    return out;
+  }
+  if (!gyroless()) {
+    out.reason = "rate update: the gyro model's state has no rate";
+    return out;
+  }
+  const Vec3 y = rate_body - b_;
+  Eigen::Matrix<double, 3, 6> H = Eigen::Matrix<double, 3, 6>::Zero();
+  H.rightCols<3>().setIdentity();
+  applyUpdate<3>(y, H, cov, out);
+  record(MekfStep::Event::kRate, &out);
+  return out;
+}
+
 void AttitudeMekf::record(MekfStep::Event e, const MekfUpdateResult* u) {
   last_event_ = e;
   if (u)
@@ -308,7 +341,8 @@ MekfStep AttitudeMekf::step() const {
   s.bias = b_;
   s.sigma_attitude = P_.diagonal().head<3>().cwiseSqrt();
   s.sigma_bias = P_.diagonal().tail<3>().cwiseSqrt();
-  if (last_event_ == MekfStep::Event::kAttitudeFix || last_event_ == MekfStep::Event::kStarVectors)
+  if (last_event_ == MekfStep::Event::kAttitudeFix || last_event_ == MekfStep::Event::kStarVectors ||
+      last_event_ == MekfStep::Event::kRate)
     s.update = last_update_;
   return s;
 }

@@ -26,6 +26,11 @@
 ///
 /// The API is built for a navigator: propagate with each gyro sample, predictAt() any
 /// timestamp without changing the filter, then update.
+///
+/// Gyroless mode (MekfOptions::model = kGyroless, fusion/gyroless_model.hpp has Phi and Q):
+/// the second 3-vector of the state is the body RATE w instead of the gyro bias (bias()
+/// returns it, rate() names it), propagation needs no gyro sample (predictTo), and
+/// updateRate() takes a measured rate. The updates and the reset are the same code.
 #pragma once
 #include <Eigen/Core>
 #include <string>
@@ -39,6 +44,14 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 struct MekfOptions {
+  /// kGyro: state (q, gyro bias), propagated with gyro samples. kGyroless: state (q, body
+  /// rate), constant-rate dynamics with a rate random walk (fusion/gyroless_model.hpp).
+  enum class Model : uint8_t { kGyro, kGyroless };
+  Model model = Model::kGyro;
+  /// kGyroless: spectral density sw of the rate random walk [rad/s^2/sqrt(Hz)]: over T
+  /// seconds the body rate wanders by sw sqrt(T) (1-sigma per axis).
+  double rate_walk_rad_s2_rt_hz = 1e-3;
+  double initial_rate_sigma_rad_s = 0.035;  ///< kGyroless: prior 1-sigma of the rate [rad/s]
   double arw_rad_rt_s = 0;                 ///< sigma_v: angle random walk [rad/sqrt(s)]
   double rrw_rad_s_rt_s = 0;               ///< sigma_u: rate random walk [rad/s^1.5]
   double initial_bias_sigma_rad_s = 1e-5;  ///< per-axis prior 1-sigma of the bias [rad/s]
@@ -77,14 +90,15 @@ struct MekfUpdateResult {
 struct MekfPrediction {
   double t = 0;
   Quat q_ib = Quat::Identity();
-  Vec3 bias = Vec3::Zero();
+  Vec3 bias = Vec3::Zero();  ///< kGyroless: the body rate
   Mat6 P = Mat6::Zero();
+  Vec3 rate = Vec3::Zero();  ///< body rate [rad/s]: the state's (gyroless), else the last gyro's
   Mat3 attitudeCov() const { return P.topLeftCorner<3, 3>(); }
 };
 
 /// Per-step output of the filter.
 struct MekfStep {
-  enum class Event { kInit, kPropagate, kAttitudeFix, kStarVectors };
+  enum class Event { kInit, kPropagate, kAttitudeFix, kStarVectors, kRate };
   Event event = Event::kInit;
   double t = 0;
   Quat q_ib = Quat::Identity();
@@ -112,7 +126,8 @@ class AttitudeMekf {
   /// fix's error is independent of it). Before initialisation it is initialize().
   void resetAttitude(double t, const Quat& q_ib, const Mat3& attitude_cov);
 
-  /// Propagates to t1 with the gyro's mean measured rate over [time(), t1] [rad/s].
+  /// Propagates to t1 with the gyro's mean measured rate over [time(), t1] [rad/s] (gyroless:
+  /// at the state's rate; the argument is not used).
   /// Returns false (filter unchanged, reason in *why) if not initialized or t1 <= time().
   bool propagate(const Vec3& gyro_rate, double t1, std::string* why = nullptr);
   /// Propagates to t without a gyro sample (a gap): holds the last measured rate.
@@ -125,6 +140,12 @@ class AttitudeMekf {
   MekfUpdateResult updateAttitude(const Quat& q_meas_ib, const Mat3& cov_body);
   /// Individual stars at the current time (1 or more; at most options.max_star_vectors used).
   MekfUpdateResult updateStarVectors(const std::vector<StarVectorMeasurement>& stars);
+  /// Gyroless model: a measured body rate [rad/s] with its 3x3 covariance at the current time
+  /// (refused with a reason for the gyro model, whose state has no rate).
+  MekfUpdateResult updateRate(const Vec3& rate_body, const Mat3& cov);
+  bool gyroless() const { return opt_.model == MekfOptions::Model::kGyroless; }
+  /// The body rate: the state's (gyroless), else the last gyro sample minus the bias.
+  Vec3 rate() const { return gyroless() ? b_ : Vec3(last_rate_ - b_); }
 
   double time() const { return t_; }
   const Quat& attitude() const { return q_; }
@@ -160,7 +181,7 @@ class AttitudeMekf {
     Vec3 b;
     Mat6 P;
   };
-  static void propagateState(State& s, const Vec3& gyro_rate, double dt, double sv, double su);
+  void propagateState(State& s, const Vec3& gyro_rate, double dt) const;
   /// Gated Joseph update with the given innovation model; applies the reset.
   template <int Rows>
   void applyUpdate(const Eigen::Matrix<double, Rows, 1>& y, const Eigen::Matrix<double, Rows, 6>& H,

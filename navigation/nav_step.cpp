@@ -1,5 +1,6 @@
 #include "navigation/nav_step.hpp"
 
+#include <Eigen/Cholesky>
 #include <fstream>
 #include <sstream>
 
@@ -16,6 +17,63 @@ void fillFilterState(NavStep& s, const FilterState& f) {
   s.P_att = f.attitudeCov();
   s.sigma_att = s.P_att.diagonal().cwiseMax(0.0).cwiseSqrt();
   s.sigma_bias = f.P.bottomRightCorner<3, 3>().diagonal().cwiseMax(0.0).cwiseSqrt();
+  s.gyroless = f.gyroless;
+  s.rate = f.rate;
+  if (f.gyroless) {
+    s.P_rate = f.P.bottomRightCorner<3, 3>();
+    s.sigma_rate = s.sigma_bias;
+    s.sigma_bias.setZero();
+  }
+}
+
+namespace {
+
+/// The true rate at `s` from its neighbours with truth `a` (before) and `b` (after).
+void setTruthRate(const NavStep& a, NavStep& s, const NavStep& b, double max_gap_s) {
+  const double dt = b.t - a.t;
+  if (!(dt > 0) || b.t - s.t > max_gap_s || s.t - a.t > max_gap_s) return;
+  s.has_true_rate = true;
+  s.rate_true = quatLog(canonical(a.q_true.conjugate() * b.q_true)) / dt;
+  if (!s.initialized) return;
+  s.rate_error = s.rate - s.rate_true;
+  if (s.gyroless) {
+    const Eigen::LDLT<Mat3> ldlt(s.P_rate);
+    if (ldlt.info() == Eigen::Success) s.rate_nees = s.rate_error.dot(ldlt.solve(s.rate_error));
+  }
+}
+
+}  // namespace
+
+void fillTruthRates(std::vector<NavStep>& steps, double max_gap_s) {
+  std::vector<std::size_t> with_truth;
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    if (steps[i].has_truth) with_truth.push_back(i);
+  for (std::size_t k = 1; k + 1 < with_truth.size(); ++k)
+    setTruthRate(steps[with_truth[k - 1]], steps[with_truth[k]], steps[with_truth[k + 1]],
+                 max_gap_s);
+}
+
+void TruthRateStream::push(NavStep s, const Sink& out) {
+  if (!s.has_truth) {
+    if (held_.empty()) {
+      out(s);
+    } else {
+      held_.push_back(std::move(s));
+    }
+    return;
+  }
+  if (!held_.empty()) {
+    if (prev_truth_) setTruthRate(*prev_truth_, held_.front(), s, max_gap_s_);
+    prev_truth_ = held_.front();
+    for (const NavStep& h : held_) out(h);
+    held_.clear();
+  }
+  held_.push_back(std::move(s));
+}
+
+void TruthRateStream::flush(const Sink& out) {
+  for (const NavStep& h : held_) out(h);
+  held_.clear();
 }
 
 std::string navStepCsvHeader() {
@@ -27,7 +85,10 @@ std::string navStepCsvHeader() {
          "err_cross_arcsec,err_roll_arcsec,nees,fix_err_arcsec,sigma_cross_arcsec,"
          "sigma_roll_arcsec,fix_nees,misidentified,blend_claims,"
          "fix,fix_qw,fix_qx,fix_qy,fix_qz,fix_sigma_cross_arcsec,fix_sigma_roll_arcsec,"
-         "fix_err_cross_arcsec,fix_err_roll_arcsec";
+         "fix_err_cross_arcsec,fix_err_roll_arcsec,"
+         "rate_x_deg_s,rate_y_deg_s,rate_z_deg_s,sigma_rate_x_deg_s,sigma_rate_y_deg_s,"
+         "sigma_rate_z_deg_s,fix_rate_x_deg_s,fix_rate_y_deg_s,fix_rate_z_deg_s,"
+         "true_rate_x_deg_s,true_rate_y_deg_s,true_rate_z_deg_s,rate_err_deg_s,rate_nees";
 }
 
 std::string navStepCsvRow(const NavStep& s) {
@@ -80,6 +141,14 @@ std::string navStepCsvRow(const NavStep& s) {
   put(fix, rad2arcsec(sf.roll));
   put(fix_truth, rad2arcsec(s.fix_error.cross_boresight));
   put(fix_truth, rad2arcsec(s.fix_error.roll));
+  // Rates: the filter's (gyroless: the state, with its sigma; gyro: the gyro minus the bias),
+  // the tracker's own frame-to-frame one, the truth's and the filter's error against it.
+  for (int i = 0; i < 3; ++i) put(filt, s.rate[i] * kDegPerRad);
+  for (int i = 0; i < 3; ++i) put(filt && s.gyroless, s.sigma_rate[i] * kDegPerRad);
+  for (int i = 0; i < 3; ++i) put(s.has_fix_rate, s.fix_rate[i] * kDegPerRad);
+  for (int i = 0; i < 3; ++i) put(s.has_true_rate, s.rate_true[i] * kDegPerRad);
+  put(filt && s.has_true_rate, s.rate_error.norm() * kDegPerRad);
+  put(filt && s.gyroless && s.has_true_rate, s.rate_nees);
   return o.str();
 }
 

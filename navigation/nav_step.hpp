@@ -5,7 +5,10 @@
 #pragma once
 #include <mrpt/core/Clock.h>
 
+#include <deque>
 #include <fstream>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +39,13 @@ struct NavStep {
   Vec3 sigma_att = Vec3::Zero();   ///< [rad] 1-sigma per body axis
   Vec3 sigma_bias = Vec3::Zero();  ///< [rad/s]
 
+  bool gyroless = false;           ///< the filter's state holds the rate (no gyro)
+  Vec3 rate = Vec3::Zero();        ///< [rad/s] the filter's body rate (initialized)
+  Vec3 sigma_rate = Vec3::Zero();  ///< [rad/s] its 1-sigma per axis (gyroless only)
+  bool has_fix_rate = false;       ///< the tracker measured the rate since its last fix
+  Vec3 fix_rate = Vec3::Zero();    ///< [rad/s] that rate (seed 004 eq. 7.1)
+  Mat3 fix_rate_cov = Mat3::Zero();
+
   FixUse use = FixUse::kNoFix;     ///< what the filter did with the fix
   Eigen::VectorXd innovation;
   Eigen::MatrixXd innovation_cov;
@@ -58,6 +68,35 @@ struct NavStep {
   /// The identities were scored (the truth lists the frame's stars; a truth of the motion
   /// alone, e.g. from a simulated gyro beside a folder of frames, cannot score them).
   bool ids_scored = false;
+  /// The true body rate at t: central difference of the neighbouring GROUND_TRUTH attitudes
+  /// (fillTruthRates), and the filter's error against it (initialized && has_true_rate).
+  bool has_true_rate = false;
+  Vec3 rate_true = Vec3::Zero();
+  Vec3 rate_error = Vec3::Zero();      ///< filter rate - truth [rad/s]
+  double rate_nees = 0;                ///< gyroless: 3 dof, with the filter's rate covariance
+  Mat3 P_rate = Mat3::Zero();
+};
+
+/// The true rate at every step with truth whose neighbours (previous and next step with
+/// truth, within max_gap_s) have truth too: Log(q_prev^-1 q_next) / (t_next - t_prev), the
+/// mean rate over the two intervals (exact at t for a rate constant or changing linearly).
+void fillTruthRates(std::vector<NavStep>& steps, double max_gap_s = 1.0);
+
+/// fillTruthRates as the steps come (live): a step with truth is held until the next step
+/// with truth gives its true rate, the steps after it with it; each step goes to the sink
+/// once final, in order. At most one truth interval is held.
+class TruthRateStream {
+ public:
+  using Sink = std::function<void(const NavStep&)>;
+  explicit TruthRateStream(double max_gap_s = 1.0) : max_gap_s_(max_gap_s) {}
+  void push(NavStep s, const Sink& out);
+  /// Releases what is held (the last step with truth has no true rate).
+  void flush(const Sink& out);
+
+ private:
+  double max_gap_s_;
+  std::optional<NavStep> prev_truth_;
+  std::deque<NavStep> held_;  // the last step with truth, then the steps after it
 };
 
 /// Copies a filter state into a step (attitude, bias, covariance, 1-sigma per axis).

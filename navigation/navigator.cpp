@@ -214,6 +214,11 @@ void Navigator::onStep(const FusionStep& fs) {
       s.q_fix = r.q_ib;
       s.cov_fix = r.cov_body;
     }
+    if (r.rate) {
+      s.has_fix_rate = true;
+      s.fix_rate = r.rate->rate_body;
+      s.fix_rate_cov = r.rate->cov_body;
+    }
     s.use = fs.use;
     s.reinitialized = fs.use == FixUse::kInitialized || fs.use == FixUse::kReinitialized;
     if (fs.use == FixUse::kAccepted || fs.use == FixUse::kRejected) {

@@ -3,7 +3,8 @@
 /// rawlog or from live sensors are decoded by the rawlog contract (labels and encodings,
 /// DESIGN.md "Rawlogs") into the loop's events, and the loop's steps come back as NavSteps
 /// (with the star tracker's observation for the output rawlog).
-///   GYRO (CObservationIMU)              -> FusionLoop::pushGyro;
+///   GYRO (CObservationIMU)              -> FusionLoop::pushGyro (a gyroless filter, [filter]
+///                                          model = gyroless, does not use them);
 /// A CAMERA image identical to the previous one (a stuck readout: a sensor repeats noise
 /// bit for bit only when it repeats its image) is refused by the star tracker itself
 /// (sensors/tracking/frozen_frame.hpp, FrameFailure::kFrozenImage, so the live sensor does

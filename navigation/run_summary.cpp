@@ -23,6 +23,7 @@ double RunSummary::Series::rms() const { return empty() ? 0 : std::sqrt(sum_sq /
 double RunSummary::Series::mean() const { return empty() ? 0 : sum / double(n()); }
 
 void RunSummary::add(const NavStep& s) {
+  addRate(s);
   filtered_ = filtered_ || s.initialized;
   // Scored as a filtered run: the filter's estimate at every step with truth, and the fixes
   // of the frames where the filter held no state (suspended: gyro lost) apart.
@@ -114,6 +115,48 @@ void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
   RunSummary r;
   for (const NavStep& s : steps) r.add(s);
   r.print(out);
+}
+
+void RunSummary::addRate(const NavStep& s) {
+  if (!s.has_true_rate) return;
+  if (s.has_fix_rate) rate_fix_err_.add((s.fix_rate - s.rate_true).norm() * kDegPerRad);
+  if (!s.initialized) return;
+  gyroless_ = gyroless_ || s.gyroless;
+  const Vec3 e = s.rate_error * kDegPerRad;
+  rate_x_.add(std::abs(e.x()));
+  rate_y_.add(std::abs(e.y()));
+  rate_z_.add(std::abs(e.z()));
+  rate_total_.add(e.norm());
+  if (s.gyroless) rate_nees_.add(s.rate_nees);
+}
+
+void RunSummary::printRates(std::FILE* out) const {
+  if (rate_total_.empty() && rate_fix_err_.empty()) return;
+  std::fprintf(out, "body rate vs GROUND_TRUTH (central differences of the true attitudes) "
+               "[deg/s]:\n");
+  if (!rate_total_.empty()) {
+    std::fprintf(out, "  filter rate (%s) error RMS x %.5f y %.5f z %.5f total %.5f, max %.5f "
+                 "(%llu steps)\n",
+                 gyroless_ ? "gyroless state" : "gyro - bias", rate_x_.rms(), rate_y_.rms(),
+                 rate_z_.rms(), rate_total_.rms(), rate_total_.h.max(),
+                 static_cast<unsigned long long>(rate_total_.n()));
+  }
+  if (!rate_nees_.empty()) {
+    std::fprintf(out, "  filter rate NEES: mean %.3f (3 dof), %.3f below the chi2(3) 95 %% "
+                 "point\n", rate_nees_.mean(),
+                 double(rate_nees_.below_q95) / double(rate_nees_.n()));
+  }
+  if (!rate_fix_err_.empty()) {
+    std::fprintf(out, "  tracker frame-to-frame rate error RMS %.5f (%llu frames; the mean over "
+                 "the frame interval)\n", rate_fix_err_.rms(),
+                 static_cast<unsigned long long>(rate_fix_err_.n()));
+  }
+}
+
+void printRateSummary(const std::vector<NavStep>& steps, std::FILE* out) {
+  RunSummary r;
+  for (const NavStep& s : steps) r.add(s);
+  r.printRates(out);
 }
 
 }  // namespace st

@@ -20,6 +20,10 @@ class RunSummary {
  public:
   void add(const NavStep& s);
   void print(std::FILE* out) const;
+  /// The body-rate lines (steps with a true rate: TruthRateStream or fillTruthRates first):
+  /// the filter's rate error per axis and total, the rate NEES of a gyroless filter, and the
+  /// tracker's own frame-to-frame rates. Prints nothing without true rates.
+  void printRates(std::FILE* out) const;
 
  private:
   /// One error or NEES series: exact count, RMS, mean, max; quantiles to 0.5 %.
@@ -42,9 +46,15 @@ class RunSummary {
   Scored filt_, raw_;
   Series nees_, filt_err_, unfiltered_err_;
   long matched_with_truth_ = 0, misidentified_ = 0, blend_claims_ = 0, unscored_ = 0;
+
+  void addRate(const NavStep& s);
+  bool gyroless_ = false;
+  Series rate_x_, rate_y_, rate_z_, rate_total_, rate_nees_, rate_fix_err_;  // [deg/s], NEES
 };
 
 /// The summary of a whole run's steps (replay).
 void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out);
+/// RunSummary::printRates of a whole run's steps (replay; fillTruthRates first).
+void printRateSummary(const std::vector<NavStep>& steps, std::FILE* out);
 
 }  // namespace st

@@ -18,7 +18,16 @@ const SectionSchema<FilterIniKeys>& filterIniSchema() {
           .add("gate", &F::gate, "chi-square gate of the updates")
           .add("gate_probability", &F::gate_probability, "reject when NIS > quantile(p, dof)")
           .add("max_star_vectors", &F::max_star_vectors, "stars per star-vector update at most")
-          .choice("update", &F::update, {"attitude", "stars"}, "how fixes enter the filter");
+          .choice("update", &F::update, {"attitude", "stars"}, "how fixes enter the filter")
+          .choice("model", &F::model, {"gyro", "gyroless"},
+                  "gyro: state attitude + gyro bias, propagated by GYRO samples (a run without "
+                  "them has no filter); gyroless: state attitude + body rate, constant-rate "
+                  "dynamics, GYRO samples not used")
+          .add("rate_walk_rad_s2_rt_hz", &F::rate_walk_rad_s2_rt_hz,
+               "[rad/s^2/sqrt(Hz)] gyroless: spectral density of the body-rate random walk "
+               "(over T seconds the rate wanders by this x sqrt(T) per axis)")
+          .add("rate_sigma_deg_s", &F::rate_sigma_deg_s,
+               "[deg/s] gyroless: prior 1-sigma of the body rate at the first fix");
   return s;
 }
 
@@ -90,6 +99,10 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   f.filter.gate_enabled = fk.gate;
   f.filter.gate_probability = fk.gate_probability;
   f.filter.max_star_vectors = fk.max_star_vectors;
+  f.filter.model =
+      fk.model == "gyroless" ? MekfOptions::Model::kGyroless : MekfOptions::Model::kGyro;
+  f.filter.rate_walk_rad_s2_rt_hz = fk.rate_walk_rad_s2_rt_hz;
+  f.filter.initial_rate_sigma_rad_s = deg2rad(fk.rate_sigma_deg_s);
   f.update =
       fk.update == "stars" ? FusionOptions::Update::kStarVectors : FusionOptions::Update::kAttitude;
   f.reinit_after_rejections = k.reinit_after_rejections;

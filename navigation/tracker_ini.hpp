@@ -3,7 +3,8 @@
 /// and of the live app's [global]: strict reading (config/schema.hpp) and the printed
 /// effective configuration of `startracker config`.
 ///   [filter]     arw_deg_rt_h, rrw_deg_h_rt_h, bias_sigma_deg_h (gyro datasheet numbers ->
-///                MekfOptions), gate, gate_probability, max_star_vectors, update
+///                MekfOptions), gate, gate_probability, max_star_vectors, update, model
+///                (gyro | gyroless), rate_walk_rad_s2_rt_hz, rate_sigma_deg_s (gyroless)
 ///   [navigator]  FusionOptions (reinit_after_rejections, reorder_window_s, gyro_gap_factor,
 ///                max_gyro_coast_s, rate_window_s, max_warnings, gyro_mount_ypr_deg -> R_body_gyro) and the
 ///                rawlog labels of NavigatorOptions; live: also `enabled`
@@ -27,6 +28,9 @@ struct FilterIniKeys {
   double gate_probability = 0.999;
   int max_star_vectors = 32;
   std::string update = "attitude";
+  std::string model = "gyro";             ///< "gyro" | "gyroless" (MekfOptions::Model)
+  double rate_walk_rad_s2_rt_hz = 1e-3;   ///< gyroless: rate random walk density
+  double rate_sigma_deg_s = 2.0;          ///< gyroless: prior 1-sigma of the body rate
 };
 
 /// [navigator]: FusionOptions' loop settings and NavigatorOptions' labels.

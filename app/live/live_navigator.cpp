@@ -15,9 +15,7 @@ LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
   // none (a one-hour run kept ~1 KB per frame of them, the memory growth of the soak).
   nav_.setKeepSteps(false);
   nav_.setStepCallback([this](const NavStep& s, const CObservationStarTracker::Ptr&) {
-    summary_.add(s);
-    integrity_.add(s);
-    if (csv_) csv_->write(s);
+    truth_rates_.push(s, [this](const NavStep& f) { summarise(f); });
     if (!s.has_frame || !s.fix) return;
     ++stats_.fixes;
     stats_.accepted += s.use == FixUse::kAccepted;
@@ -73,6 +71,7 @@ void LiveNavigator::flush() {
   std::lock_guard<std::mutex> lock(m_);
   if (!started_) start(std::nullopt);
   nav_.flush();
+  truth_rates_.flush([this](const NavStep& f) { summarise(f); });
 }
 
 bool LiveNavigator::earlierEventsIn(mrpt::Clock::time_point t) const {
@@ -124,9 +123,16 @@ LiveNavigator::Stats LiveNavigator::stats() const {
   return s;
 }
 
+void LiveNavigator::summarise(const NavStep& s) {
+  summary_.add(s);
+  integrity_.add(s);
+  if (csv_) csv_->write(s);
+}
+
 void LiveNavigator::printSummaries(std::FILE* out) const {
   std::lock_guard<std::mutex> lock(m_);
   summary_.print(out);
+  summary_.printRates(out);
   printIntegritySummary(integrity_.stats(), out);
 }
 

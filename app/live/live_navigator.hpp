@@ -70,6 +70,9 @@ class LiveNavigator {
   std::condition_variable arrived_;
   Navigator nav_;
   Stats stats_;
+  void summarise(const NavStep& s);  // a final step: the summaries and the CSV
+
+  TruthRateStream truth_rates_;  // holds a step until its true rate is known
   RunSummary summary_;
   IntegrityAccumulator integrity_;
   std::unique_ptr<NavStepCsvWriter> csv_;

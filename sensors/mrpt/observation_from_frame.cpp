@@ -28,6 +28,7 @@ CObservationStarTracker::Ptr observationFromFrame(const FrameResult& frame,
   out->stars = frame.stars;
   out->num_blobs = frame.num_blobs;
   out->timings = frame.timings;
+  out->rate = frame.rate;
   return out;
 }
 
@@ -41,6 +42,7 @@ FrameResult frameFromObservation(const CObservationStarTracker& o) {
   r.stars = o.stars;
   r.num_blobs = o.num_blobs;
   r.timings = o.timings;
+  r.rate = o.rate;
   return r;
 }
 

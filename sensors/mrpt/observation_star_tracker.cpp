@@ -71,6 +71,14 @@ void CObservationStarTracker::serializeTo(mrpt::serialization::CArchive& out) co
   out << num_blobs;
   if (version >= 1) out << timings.detect << timings.identify << timings.attitude << timings.total;
   if (version >= 2) out << static_cast<uint8_t>(failure);
+  if (version >= 3) {
+    out << static_cast<uint8_t>(rate ? 1 : 0);
+    if (rate) {
+      writeVec(out, rate->rate_body.data(), 3);
+      writeVec(out, rate->cov_body.data(), 9);
+      out << rate->interval_s << static_cast<int32_t>(rate->stars);
+    }
+  }
 }
 
 void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
@@ -78,7 +86,8 @@ void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
   switch (version) {
     case 0:
     case 1:
-    case 2: {
+    case 2:
+    case 3: {
       in >> timestamp;
       readString(in, sensorLabel);
       mrpt::math::CVectorFixedDouble<12> pose12;
@@ -130,6 +139,21 @@ void CObservationStarTracker::serializeFrom(mrpt::serialization::CArchive& in,
       } else {
         failure = hasAttitude() ? FrameFailure::kNone : FrameFailure::kUnknown;
       }
+      rate.reset();
+      if (version >= 3) {
+        uint8_t has = 0;
+        in >> has;
+        if (has > 1) THROW_EXCEPTION_FMT("CObservationStarTracker: bad rate flag %u", unsigned(has));
+        if (has) {
+          MeasuredRate r;
+          readVec(in, r.rate_body.data(), 3);
+          readVec(in, r.cov_body.data(), 9);
+          int32_t n = 0;
+          in >> r.interval_s >> n;
+          r.stars = n;
+          rate = r;
+        }
+      }
       // A read object is written back in the layout it came in, so copies stay bit-exact.
       write_version_ = version;
     } break;
@@ -145,7 +169,7 @@ bool CObservationStarTracker::sameContent(const CObservationStarTracker& o) cons
          mode == o.mode && failure == o.failure && reason == o.reason &&
          q_ib.coeffs() == o.q_ib.coeffs() &&
          cov_body == o.cov_body && stars == o.stars && num_blobs == o.num_blobs &&
-         timings == o.timings;
+         timings == o.timings && rate == o.rate;
 }
 
 void CObservationStarTracker::getDescriptionAsText(std::ostream& o) const {
@@ -182,6 +206,16 @@ void CObservationStarTracker::getDescriptionAsText(std::ostream& o) const {
   o << "Detected blobs: " << num_blobs << "\n";
   o << "Timings [ms]: detect " << 1e3 * timings.detect << ", identify " << 1e3 * timings.identify
     << ", attitude " << 1e3 * timings.attitude << ", total " << 1e3 * timings.total << "\n";
+  if (rate) {
+    o << std::setprecision(6);
+    const Vec3 sd = rate->cov_body.diagonal().cwiseMax(0.0).cwiseSqrt() * kDegPerRad;
+    o << "Body rate since the previous fix [deg/s]: " << rate->rate_body.x() * kDegPerRad << " "
+      << rate->rate_body.y() * kDegPerRad << " " << rate->rate_body.z() * kDegPerRad
+      << "  1-sigma " << sd.x() << " " << sd.y() << " " << sd.z() << "  (" << rate->stars
+      << " common stars over " << std::setprecision(3) << rate->interval_s << " s)\n";
+  } else {
+    o << "Body rate: none (no previous fix with common stars)\n";
+  }
   o << "Matched stars: " << stars.size() << "\n";
   if (!stars.empty()) {
     o << "  catalog_id        x [px]        y [px]   v_cam (x y z)                       "

@@ -12,6 +12,9 @@
 ///   1: + per-stage timings (version-0 objects read with timings = 0)
 ///   2: + failure (FrameFailure, uint8); older objects read with failure = kNone for a fix
 ///      and kUnknown for a failed frame (their kind was not recorded)
+///   3: + the body rate since the previous fix (uint8 present; then rate [rad/s] x3, its
+///      covariance [rad^2/s^2] 3x3 column-major, interval [s], stars int32); older objects
+///      read with no rate
 ///
 /// Mode, failure, MatchedStar and StageTimings are the tracking stage's
 /// (sensors/tracking/frame.hpp); observation_from_frame.hpp converts a FrameResult.
@@ -21,6 +24,7 @@
 #include <mrpt/serialization/CSerializable.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +37,7 @@ class CObservationStarTracker : public mrpt::obs::CObservation {
   DEFINE_SERIALIZABLE(CObservationStarTracker, st)
 
  public:
-  static constexpr uint8_t kCurrentVersion = 2;
+  static constexpr uint8_t kCurrentVersion = 3;
 
   CObservationStarTracker() = default;
 
@@ -50,6 +54,9 @@ class CObservationStarTracker : public mrpt::obs::CObservation {
   std::vector<MatchedStar> stars;
   int32_t num_blobs = 0;  ///< blobs (or windows with a centroid) found in the image
   StageTimings timings;
+  /// The body rate measured from this frame and the tracker's previous fix (frame.hpp):
+  /// body frame; absent for the first fix or frames without common stars.
+  std::optional<MeasuredRate> rate;
 
   /// Pose of the camera on the vehicle (body frame); identity by default.
   mrpt::poses::CPose3D sensor_pose;

@@ -91,6 +91,10 @@ ScenarioIni readScenarioIni(const IniReader& r) {
 std::string printScenarioIni(const ScenarioIni& sc) {
   const ScenarioKeys& k = sc.main;
   std::string out = scenarioKeysSchema().print("scenario", k) + "\n";
+  // No gyro: its (default) section is absent, and naming an absent section is an error.
+  const std::string named = "\ngyro_section = " + k.gyro_section + "\n";
+  if (const auto at = out.find(named); !sc.gyro && at != std::string::npos)
+    out.replace(at, named.size(), "\n# gyro_section = " + k.gyro_section + " (absent: no gyro)\n");
   out += cameraIniSchema().print(k.camera_section, sc.camera.iniKeys()) + "\n";
   out += sensorParamsSchema().print(k.sensor_section, sc.sensor) + "\n";
   out += motionSchema(sc.motion.type).print(k.motion_section, sc.motion) + "\n";

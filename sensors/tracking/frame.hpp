@@ -83,6 +83,19 @@ struct MatchedStar {
   }
 };
 
+/// The body rate between two solved frames, measured by the tracker from the stars matched
+/// in both (sensors/tracking/frame_rate.hpp; seed 004 ch. 7, eq. 7.1).
+struct MeasuredRate {
+  Vec3 rate_body = Vec3::Zero();    ///< [rad/s] mean body rate over the interval
+  Mat3 cov_body = Mat3::Zero();     ///< [rad^2/s^2] from the two frames' star-vector noise
+  double interval_s = 0;            ///< [s] the previous frame's time to this one's
+  int stars = 0;                    ///< stars matched in both frames
+  bool operator==(const MeasuredRate& o) const {
+    return rate_body == o.rate_body && cov_body == o.cov_body && interval_s == o.interval_s &&
+           stars == o.stars;
+  }
+};
+
 /// Wall-clock time spent in each stage of the frame [s].
 struct StageTimings {
   double detect = 0, identify = 0, attitude = 0, total = 0;
@@ -111,6 +124,9 @@ struct FrameResult {
   /// StarTracker::camera() and cameraFit() tell how.
   bool camera_updated = false;
   double model_error_px = 0;  ///< [px] camera-model error term in force for this frame
+  /// The body rate since the previous solved frame (when both share >= 2 stars and the
+  /// previous frame is recent: TrackerOptions::max_propagation_s).
+  std::optional<MeasuredRate> rate;
 
   bool hasAttitude() const { return mode != StarTrackerMode::kFailed; }
 };

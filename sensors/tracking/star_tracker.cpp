@@ -192,6 +192,12 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
     reset();
   }
   predictor_.recordRate(t_s, rate_cam);
+  if (out.hasAttitude()) {
+    RateFrame cur = RateFrame::of(t_s, out.stars, fix.cov_cam);
+    if (rate_prev_ && t_s - rate_prev_->t_s <= opts_.max_propagation_s)
+      out.rate = measureFrameRate(*rate_prev_, cur, R_bc_);
+    rate_prev_ = std::move(cur);
+  }
   out.model_error_px = model_error_px_;
   out.timings.total = seconds(t0, Clock::now());
   return out;

@@ -18,6 +18,9 @@
 ///    After max_failed_frames consecutive failed tracking frames the tracker drops back to
 ///    lost-in-space by itself (and ignores predictions until lost-in-space succeeds again, so
 ///    a diverged filter cannot keep it failing).
+///  - rate: every fix whose stars share >= 2 catalog ids with the last solved frame (no
+///    older than max_propagation_s) carries the body rate between the two (FrameResult::rate,
+///    frame_rate.hpp: relative attitude of the two frames, seed 004 eq. 7.1).
 ///  - re-acquisition: a frame-to-frame prediction (no filter, no gyro: nothing independent
 ///    of the tracker's own last fixes) whose windows find too few stars is not retried on
 ///    the next frames: the same frame goes to lost-in-space at once. With a filter's or a
@@ -55,6 +58,7 @@
 #include "sensors/identify/recursive_id.hpp"
 #include "sensors/tracking/frame.hpp"
 #include "sensors/tracking/frame_predictor.hpp"
+#include "sensors/tracking/frame_rate.hpp"
 #include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/online_camera.hpp"
 #include "sensors/tracking/tracker_options.hpp"
@@ -125,6 +129,9 @@ class StarTracker {
   double model_error_px_ = 0;
   bool camera_verified_ = false;  // a fix verified with camera_: no more healing searches
   FrozenFrameCheck frozen_;       // a repeated readout is refused before anything else
+  // The last solved frame's stars: the partner of the next fix's rate (frame_rate.hpp). Kept
+  // through reset(): its identities were verified, whatever the mode of the next fix.
+  std::optional<RateFrame> rate_prev_;
 
   // Scratch buffers kept between frames.
   RecursiveIdResult rid_;

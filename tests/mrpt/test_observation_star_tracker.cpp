@@ -149,6 +149,7 @@ TEST(ObservationStarTracker, VersionTwoKeepsTheFailureKindAndOlderVersionsDefaul
   auto obs = test::makeStarTrackerObservation(12);
   obs->mode = StarTrackerMode::kFailed;
   obs->failure = FrameFailure::kTooFewInGate;
+  obs->setWriteVersion(2);  // version 3 added the rate (test_observation_rate.cpp)
   const Bytes v2 = serialize(*obs);
   ASSERT_EQ(v2[versionOffset()], 2);
   auto back = deserialize(v2);
