@@ -34,7 +34,10 @@ bool FusionOptions::isValid(std::string* why) const {
   if (!isRotation(R_body_gyro)) return bad("R_body_gyro", "not a rotation matrix");
   if (!isRotation(R_body_camera)) return bad("R_body_camera", "not a rotation matrix");
   if (max_warnings < 0) return bad("max_warnings", "must be >= 0");
-  if (!gyro_health.isValid(&err)) return bad("gyro_health", err);
+  if (!gyro_health.isValid(&err)) {
+    if (why) *why = err;  // already "'<key>': ..."
+    return false;
+  }
   return true;
 }
 

@@ -30,19 +30,20 @@ void pushCapped(std::deque<T>& d, T v, std::size_t cap) {
 
 }  // namespace
 
+// The messages name the [navigator] keys (navigation/tracker_ini.cpp) that set the fields.
 bool GyroHealthOptions::isValid(std::string* why) const {
   auto bad = [&](const char* msg) {
     if (why) *why = msg;
     return false;
   };
   if (!(max_angular_accel_rad_s2 >= 0) || !std::isfinite(max_angular_accel_rad_s2))
-    return bad("max_angular_accel must be >= 0");
-  if (!(spike_sigmas > 0)) return bad("spike_sigmas must be > 0");
-  if (median_of < 1) return bad("median_of must be >= 1");
-  if (step_after < 2) return bad("step_after must be >= 2");
-  if (window < 4) return bad("window must be >= 4");
-  if (!(noise_factor > 1)) return bad("noise_factor must be > 1");
-  if (noisy_flags < 1) return bad("noisy_flags must be >= 1");
+    return bad("'gyro_max_accel_deg_s2': must be >= 0");
+  if (!(spike_sigmas > 0)) return bad("'gyro_spike_sigmas': must be > 0");
+  if (median_of < 1) return bad("'gyro_spike_median_of': must be >= 1");
+  if (step_after < 2) return bad("'gyro_step_after': must be >= 2");
+  if (window < 4) return bad("'gyro_health_window': must be >= 4");
+  if (!(noise_factor > 1)) return bad("'gyro_noise_factor': must be > 1");
+  if (noisy_flags < 1) return bad("'gyro_noisy_flags': must be >= 1");
   return true;
 }
 

@@ -40,6 +40,15 @@ NavigatorIniKeys NavigatorIniKeys::of(const NavigatorOptions& o) {
   k.max_gyro_coast_s = f.max_gyro_coast_s;
   k.rate_window_s = f.rate_window_s;
   k.max_warnings = f.max_warnings;
+  const GyroHealthOptions& h = f.gyro_health;
+  k.gyro_health = h.enabled;
+  k.gyro_max_accel_deg_s2 = rad2deg(h.max_angular_accel_rad_s2);
+  k.gyro_spike_sigmas = h.spike_sigmas;
+  k.gyro_spike_median_of = h.median_of;
+  k.gyro_step_after = h.step_after;
+  k.gyro_health_window = h.window;
+  k.gyro_noise_factor = h.noise_factor;
+  k.gyro_noisy_flags = h.noisy_flags;
   k.camera_label = o.camera_label;
   k.gyro_label = o.gyro_label;
   k.truth_label = o.truth_label;
@@ -65,6 +74,23 @@ const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
             .add("max_warnings", &K::max_warnings, "warnings kept (later ones only counted)")
             .add("gyro_mount_ypr_deg", &K::gyro_mount_ypr_deg,
                  "[deg] yaw pitch roll of the gyro in the body (w_body = R w_gyro)")
+            .add("gyro_health", &K::gyro_health,
+                 "check every gyro sample against its datasheet noise (spikes, stuck or noisy "
+                 "axes suspend the filter)")
+            .add("gyro_max_accel_deg_s2", &K::gyro_max_accel_deg_s2,
+                 "[deg/s^2] the body's largest angular acceleration: a faster change is a spike")
+            .add("gyro_spike_sigmas", &K::gyro_spike_sigmas,
+                 "a sample further than this many noise sigma from the recent median is a spike")
+            .add("gyro_spike_median_of", &K::gyro_spike_median_of,
+                 "accepted samples whose median a sample is compared with")
+            .add("gyro_step_after", &K::gyro_step_after,
+                 "flagged samples in a row that agree: a real rate step, not a spike")
+            .add("gyro_health_window", &K::gyro_health_window,
+                 "samples of the stuck / noisy statistics and of the recovery")
+            .add("gyro_noise_factor", &K::gyro_noise_factor,
+                 "an axis whose scatter exceeds this x its datasheet noise is noisy")
+            .add("gyro_noisy_flags", &K::gyro_noisy_flags,
+                 "spikes on one axis within the window that make it noisy")
             .add("camera_label", &K::camera_label, "rawlog label of the frames")
             .add("gyro_label", &K::gyro_label, "rawlog label of the gyro")
             .add("truth_label", &K::truth_label, "rawlog label of the truth")
@@ -111,6 +137,15 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   f.max_gyro_coast_s = k.max_gyro_coast_s;
   f.rate_window_s = k.rate_window_s;
   f.max_warnings = k.max_warnings;
+  GyroHealthOptions& h = f.gyro_health;
+  h.enabled = k.gyro_health;
+  h.max_angular_accel_rad_s2 = deg2rad(k.gyro_max_accel_deg_s2);
+  h.spike_sigmas = k.gyro_spike_sigmas;
+  h.median_of = k.gyro_spike_median_of;
+  h.step_after = k.gyro_step_after;
+  h.window = k.gyro_health_window;
+  h.noise_factor = k.gyro_noise_factor;
+  h.noisy_flags = k.gyro_noisy_flags;
   const Vec3& ypr = k.gyro_mount_ypr_deg;
   const auto R = mrpt::poses::CPose3D(0, 0, 0, deg2rad(ypr.x()), deg2rad(ypr.y()), deg2rad(ypr.z()))
                      .getRotationMatrix();
@@ -122,7 +157,7 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   n.star_tracker_label = k.star_tracker_label;
   std::string why;
   if (!f.filter.isValid(&why)) throw InputError(r.where("filter") + ": " + why);
-  if (!f.isValid(&why)) throw InputError(r.where("navigator") + ": " + why);
+  if (!f.isValid(&why)) throw InputError(r.where("navigator") + " key " + why);
 }
 
 bool isLiveIni(const IniReader& r) {

@@ -42,6 +42,13 @@ struct NavigatorIniKeys {
   double rate_window_s = 0.1;
   int max_warnings = 50;
   Vec3 gyro_mount_ypr_deg = Vec3::Zero();  ///< [deg] yaw pitch roll (MRPT CPose3D) of R_body_gyro
+  // The gyro health checks (fusion/gyro_health.hpp), in datasheet units.
+  bool gyro_health = true;
+  double gyro_max_accel_deg_s2 = 10;
+  double gyro_spike_sigmas = 10;
+  int gyro_spike_median_of = 5, gyro_step_after = 3, gyro_health_window = 20;
+  double gyro_noise_factor = 4;
+  int gyro_noisy_flags = 4;
   std::string camera_label, gyro_label, truth_label, star_tracker_label;
   bool enabled = true;  ///< live only
 

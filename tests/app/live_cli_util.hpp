@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fusion/consistency.hpp"
+#include "tests/support/csv_file.hpp"
 
 namespace st::test {
 
@@ -41,35 +42,6 @@ inline LiveSummary parseLiveSummary(const std::string& out) {
     s.tracking = std::stoi(m[3]);
   }
   return s;
-}
-
-/// Column `name` of a CSV with a header, for rows whose column `filter` is 1, skipping the
-/// first `skip` of those rows.
-inline std::vector<double> csvColumn(const std::string& path, const std::string& name,
-                                     const std::string& filter, std::size_t skip) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  auto split = [](const std::string& l) {
-    std::vector<std::string> f;
-    std::stringstream ss(l);
-    std::string x;
-    while (std::getline(ss, x, ',')) f.push_back(x);
-    return f;
-  };
-  const std::vector<std::string> head = split(line);
-  const auto col = [&](const std::string& n) {
-    return std::size_t(std::find(head.begin(), head.end(), n) - head.begin());
-  };
-  const std::size_t c = col(name), cf = col(filter);
-  std::vector<double> v;
-  std::size_t seen = 0;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> f = split(line);
-    if (f.size() != head.size() || f[cf] != "1") continue;
-    if (seen++ >= skip) v.push_back(std::stod(f[c]));
-  }
-  return v;
 }
 
 inline double fractionBelow(const std::vector<double>& nees, double p) {

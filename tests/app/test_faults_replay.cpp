@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 
 #include "tests/support/test_paths.hpp"
@@ -71,6 +73,49 @@ TEST_P(FaultReplay, NoWrongValidAttitudeAndRecovers) {
               blind_to);
   EXPECT_EQ(wrong, 0) << out;
   EXPECT_LE(recovery, c.max_recovery_s) << out;
+}
+
+/// The one-hour run's tracker .ini with `lines` added under a [navigator] section.
+std::string trackerIniWith(const std::string& dir, const std::string& lines) {
+  std::ifstream in(test::repoDir() + "/rawlogs/one_hour_tracker.ini");
+  std::stringstream text;
+  text << in.rdbuf() << "\n[navigator]\n" << lines << "\n";
+  const std::string path = dir + "/tracker.ini";
+  std::ofstream(path) << text.str();
+  return path;
+}
+
+// The health checks' teeth, and their ini keys in use: the stuck-axis run with the checks
+// switched off (`gyro_health = false`) reports wrong attitudes as valid; a bad threshold
+// exits 2 naming its key.
+TEST(FaultReplayKeys, WithoutTheGyroHealthCheckAStuckAxisGivesWrongValidAttitudes) {
+  const std::string dir = test::makeTempDir("fault_keys");
+  const std::string rawlog = dir + "/stuck.rawlog";
+  const std::string exe = "'" + test::startrackerExe() + "'";
+  std::string out;
+  ASSERT_EQ(test::runCommand(exe + " simulate '" + test::repoDir() +
+                                 "/rawlogs/fault_gyro_stuck.ini' -o '" + rawlog + "'",
+                             &out),
+            0)
+      << out;
+  ASSERT_EQ(test::runCommand(exe + " replay '" + rawlog + "' --config '" +
+                                 trackerIniWith(dir, "gyro_health = false") + "'",
+                             &out),
+            0)
+      << out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex(R"(integrity .*: (\d+) wrong valid outputs)")))
+      << out;
+  std::printf("stuck gyro axis without the health check: %s wrong valid outputs\n",
+              m[1].str().c_str());
+  EXPECT_GT(std::stoi(m[1]), 0) << out;
+
+  const int rc = test::runCommand(exe + " replay '" + rawlog + "' --config '" +
+                                      trackerIniWith(dir, "gyro_spike_sigmas = 0") + "' 2>&1",
+                                  &out);
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(out.find("gyro_spike_sigmas"), std::string::npos) << out;
+  EXPECT_NE(out.find("must be > 0"), std::string::npos) << out;
 }
 
 // Recovery bounds. Camera faults: they cost the frames while they last; after the fault's

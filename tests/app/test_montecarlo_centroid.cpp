@@ -19,24 +19,13 @@
 #include <opencv2/core.hpp>
 
 #include "sensors/sim/psf.hpp"
+#include "tests/support/csv_file.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
 namespace {
 
-std::vector<std::vector<std::string>> readCsv(const std::string& path) {
-  std::ifstream f(path);
-  std::vector<std::vector<std::string>> rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(c);
-    rows.push_back(cells);
-  }
-  return rows;
-}
+using test::readCsvCells;
 
 /// Cramer-Rao bound [px, radial RMS] of the position of a Gaussian star of FWHM `fwhm`
 /// (peak `snr` x 10 ADU, background noise 10 ADU, 10 e-/ADU shot noise), as the experiment
@@ -74,7 +63,7 @@ TEST(MontecarloCentroid, MatchesTheoryAndTheSeedsOrdering) {
   ASSERT_EQ(test::runCommand(test::startrackerExe() + " montecarlo centroid-defocus --runs 1000 "
                              "--seed 3 --no-plots -q --out " + dir, &out), 0) << out;
   std::map<std::string, double> rms;  // "snr/fwhm/centroider"
-  for (const auto& r : readCsv(dir + "/centroid-defocus_accuracy.csv"))
+  for (const auto& r : readCsvCells(dir + "/centroid-defocus_accuracy.csv"))
     if (r.size() >= 6 && r[0] != "snr") rms[r[0] + "/" + r[1] + "/" + r[2]] = std::stod(r[5]);
   ASSERT_FALSE(rms.empty());
   for (const char* w : {"3", "5", "10"}) {
@@ -90,7 +79,7 @@ TEST(MontecarloCentroid, MatchesTheoryAndTheSeedsOrdering) {
     EXPECT_LT(rms.at(std::string("0/") + w + "/cog"), 0.01);
   }
   std::map<std::string, std::pair<double, double>> tab;  // "V/centroider" -> (rms, us)
-  for (const auto& r : readCsv(dir + "/centroid-defocus_table4_2.csv"))
+  for (const auto& r : readCsvCells(dir + "/centroid-defocus_table4_2.csv"))
     if (r.size() >= 6 && r[0] != "V") tab[r[0] + "/" + r[1]] = {std::stod(r[4]), std::stod(r[5])};
   for (const char* v : {"1", "2", "3", "4", "5"}) {
     EXPECT_GT(tab.at(std::string(v) + "/gauss").second, tab.at(std::string(v) + "/cog").second) << v;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/csv_file.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
@@ -24,18 +25,8 @@ namespace {
 using Csv = std::vector<std::vector<std::string>>;  // header first
 
 Csv readCsv(const std::string& path) {
-  std::ifstream f(path);
-  EXPECT_TRUE(f.good()) << path;
-  Csv rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(c);
-    rows.push_back(cells);
-  }
-  return rows;
+  EXPECT_TRUE(std::ifstream(path).good()) << path;
+  return test::readCsvCells(path);
 }
 
 std::size_t column(const Csv& t, const std::string& name) {

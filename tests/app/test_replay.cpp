@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "sensors/mrpt/rawlog_io.hpp"
+#include "tests/support/csv_file.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
@@ -171,27 +172,7 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
   return n;
 }
 
-/// The CSV's rows as fields by column name.
-std::vector<std::map<std::string, std::string>> csvRows(const std::string& path) {
-  std::ifstream f(path);
-  auto split = [](const std::string& l) {
-    std::vector<std::string> v;
-    std::stringstream ss(l);
-    for (std::string x; std::getline(ss, x, ',');) v.push_back(x);
-    return v;
-  };
-  std::string line;
-  std::getline(f, line);
-  const std::vector<std::string> head = split(line);
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(f, line)) {
-    const std::vector<std::string> v = split(line);
-    std::map<std::string, std::string> r;
-    for (std::size_t i = 0; i < head.size() && i < v.size(); ++i) r[head[i]] = v[i];
-    rows.push_back(r);
-  }
-  return rows;
-}
+using test::readCsvRows;
 
 // The 2 deg/s slew without its GYRO observations: a filter fed fixes alone would lag the
 // motion (issue 21: 1.7 deg off on the tour's slew). Replay says so once and reports the raw
@@ -221,7 +202,7 @@ TEST(ReplayWithoutGyro, CameraOnlyRawlogGivesRawLostInSpaceFixesAndOneWarning) {
   expectWithinWorstCaseBounds(out);
 
   // CSV: the filter's columns absent (nan), the raw fix present in the fix_* columns.
-  const auto rows = csvRows(csv);
+  const auto rows = readCsvRows(csv);
   ASSERT_EQ(rows.size(), 12u);
   for (const auto& r : rows) {
     EXPECT_EQ(r.at("initialized"), "0");

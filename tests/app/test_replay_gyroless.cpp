@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/csv_file.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
@@ -26,26 +27,7 @@ double grab(const std::string& out, const std::string& pattern) {
   return std::stod(m[1]);
 }
 
-std::vector<std::map<std::string, std::string>> csvRows(const std::string& path) {
-  std::ifstream f(path);
-  auto split = [](const std::string& l) {
-    std::vector<std::string> v;
-    std::stringstream ss(l);
-    for (std::string x; std::getline(ss, x, ',');) v.push_back(x);
-    return v;
-  };
-  std::string line;
-  std::getline(f, line);
-  const std::vector<std::string> head = split(line);
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(f, line)) {
-    const std::vector<std::string> v = split(line);
-    std::map<std::string, std::string> r;
-    for (std::size_t i = 0; i < head.size() && i < v.size(); ++i) r[head[i]] = v[i];
-    rows.push_back(r);
-  }
-  return rows;
-}
+using test::readCsvRows;
 
 std::string ini(const std::string& name) { return test::repoDir() + "/rawlogs/" + name; }
 
@@ -84,7 +66,7 @@ TEST(ReplayGyroless, SixtySecondJitterTracksFromFrameTwoWithRateAgainstTruth) {
       << out;
   EXPECT_GE(grab(out, R"(filter rate \(gyroless state\) error RMS x ([0-9.]+))"), 0) << out;
 
-  const auto rows = csvRows(csv);
+  const auto rows = readCsvRows(csv);
   ASSERT_EQ(rows.size(), 300u);
   EXPECT_EQ(rows[0].at("mode"), "lost-in-space");
   int tracking_after_first = 0;
@@ -132,7 +114,7 @@ TEST(ReplayGyroless, CameraOnlySlewTracksFromFrameTwo) {
   EXPECT_NE(out.find("not used: the filter model is gyroless"), std::string::npos) << out;
   EXPECT_EQ(grab(out, R"(lost-in-space (\d+))"), 1) << out;
   EXPECT_EQ(grab(out, R"(, (\d+) misidentified)"), 0) << out;
-  const auto rows = csvRows(csv);
+  const auto rows = readCsvRows(csv);
   ASSERT_EQ(rows.size(), 12u);
   EXPECT_EQ(rows[1].at("mode"), "tracking");
   int failed = 0;

@@ -3,7 +3,10 @@
 #include <mrpt/core/Clock.h>
 #include <mrpt/obs/CObservationIMU.h>
 
+#include <mrpt/serialization/CSerializable.h>
+
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <string>
@@ -14,6 +17,23 @@
 #include "sensors/mrpt/observation_star_tracker.hpp"
 
 namespace st::test {
+
+using Bytes = std::vector<uint8_t>;
+
+inline Bytes serialize(const mrpt::serialization::CSerializable& o) {
+  Bytes b;
+  mrpt::serialization::ObjectToOctetVector(&o, b);
+  return b;
+}
+
+inline CObservationStarTracker::Ptr deserialize(const Bytes& b) {
+  mrpt::serialization::CSerializable::Ptr p;
+  mrpt::serialization::OctetVectorToObject(b, p);
+  return std::dynamic_pointer_cast<CObservationStarTracker>(p);
+}
+
+/// Offset of the version byte in WriteObject's layout: [0x80 | len][class name][version][data].
+inline std::size_t versionOffset() { return 1 + std::strlen("st::CObservationStarTracker"); }
 
 /// A tracking fix with 8 stars, 42 blobs, non-trivial pose, covariance and timings; every
 /// double drawn from `seed` so that no field is a round number.

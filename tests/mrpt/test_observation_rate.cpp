@@ -21,21 +21,10 @@
 namespace st {
 namespace {
 
-using Bytes = std::vector<uint8_t>;
-
-Bytes serialize(const mrpt::serialization::CSerializable& o) {
-  Bytes b;
-  mrpt::serialization::ObjectToOctetVector(&o, b);
-  return b;
-}
-
-CObservationStarTracker::Ptr deserialize(const Bytes& b) {
-  mrpt::serialization::CSerializable::Ptr p;
-  mrpt::serialization::OctetVectorToObject(b, p);
-  return std::dynamic_pointer_cast<CObservationStarTracker>(p);
-}
-
-std::size_t versionOffset() { return 1 + std::strlen("st::CObservationStarTracker"); }
+using test::Bytes;
+using test::deserialize;
+using test::serialize;
+using test::versionOffset;
 
 MeasuredRate sampleRate() {
   MeasuredRate r;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <startracker/startracker.hpp>
 
@@ -71,7 +72,11 @@ int main(int argc, char** argv) {
   const st::FrameResult a = tracker.process(first, 0.0);
   st::FrameInputs gyro;  // a gyro says the camera stood still: the tracker predicts from it
   gyro.rate_body = st::Vec3::Zero();
-  const st::FrameResult b = tracker.process(first, 0.1, gyro);
+  // The next frame: the sky one pixel to the right (the same image again would be refused
+  // as a frozen readout).
+  cv::Mat next;
+  cv::copyMakeBorder(first.colRange(0, first.cols - 1), next, 0, 0, 1, 0, cv::BORDER_REPLICATE);
+  const st::FrameResult b = tracker.process(next, 0.1, gyro);
   std::printf("tracker %s\n", st::api::frameResultJson(b).dump().c_str());
   const bool tracked = a.mode == st::StarTrackerMode::kLostInSpace &&
                        b.mode == st::StarTrackerMode::kTracking;
