@@ -118,9 +118,9 @@ def test_tracker_lost_in_space_then_tracking_with_a_gyro_rate():
     t = startracker.Tracker(1024, 768, fov_deg=s["hfov_deg"], epoch=s["epoch_jyear"],
                             min_sigma_px=0.5, tracking_min_sigma_px=0.5)
     a = t.process(img, 0.0)
-    # The next frame: the sky one pixel to the right (the same image again is refused as a
-    # frozen readout).
-    nxt = np.roll(img, 1, axis=1)
+    # The next frame of a camera standing still: the same sky, the bias 1 ADU higher (the
+    # same image again is refused as a frozen readout).
+    nxt = np.minimum(img, np.iinfo(img.dtype).max - 1) + 1
     b = t.process(nxt, 0.1, rate=(0.0, 0.0, 0.0))
     frozen = t.process(nxt, 0.2, rate=(0.0, 0.0, 0.0))
     assert frozen["failure"] == "frozen-image" and not frozen["has_attitude"], frozen
