@@ -77,9 +77,14 @@ FrameResult Tracker::process(const cv::Mat& image, double t_s, const FrameInputs
     throw InputError("image: " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                      " px, the tracker's camera is " + std::to_string(tracker_->camera().width()) +
                      "x" + std::to_string(tracker_->camera().height()));
+  if (const std::optional<double> seen = frozen_.repeats(image, t_s))
+    return frozenFrameResult(*seen);  // a repeated readout (frozen_frame.hpp)
   return tracker_->process(image, t_s, in);
 }
 
-void Tracker::reset() { tracker_->reset(); }
+void Tracker::reset() {
+  tracker_->reset();
+  frozen_.reset();
+}
 
 }  // namespace st::api

@@ -177,12 +177,16 @@ FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& i
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
     image = grey;
   }
+  if (const std::optional<double> seen = frozen_.repeats(image, t)) {
+    ++frozen_frames_;
+    if (io.image.isExternallyStored()) io.image.unload();
+    const FrameResult r = frozenFrameResult(*seen);
+    warn("CAMERA observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
+    frame_obs_ = observationOf(r, io.timestamp);
+    return r;
+  }
   FrameResult r = tracker_->process(image, t, in);
   if (io.image.isExternallyStored()) io.image.unload();
-  if (r.failure == FrameFailure::kFrozenImage) {
-    ++frozen_frames_;
-    warn("CAMERA observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
-  }
   frame_obs_ = observationOf(r, io.timestamp);
   return r;
 }

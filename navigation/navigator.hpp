@@ -6,9 +6,10 @@
 ///   GYRO (CObservationIMU)              -> FusionLoop::pushGyro (a gyroless filter, [filter]
 ///                                          model = gyroless, does not use them);
 /// A CAMERA image identical to the previous one (a stuck readout: a sensor repeats noise
-/// bit for bit only when it repeats its image) is refused by the star tracker itself
-/// (sensors/tracking/frozen_frame.hpp, FrameFailure::kFrozenImage, so the live sensor does
-/// the same); the navigator counts it and warns, and the filter coasts on the gyro across it.
+/// bit for bit only when it repeats its image) is not processed: its frame fails with
+/// FrameFailure::kFrozenImage (sensors/tracking/frozen_frame.hpp, the check the live sensor
+/// and the library's Tracker run too); the navigator counts it and warns, and the filter
+/// coasts on the gyro across it.
 ///   CAMERA (CObservationImage)          -> FusionLoop::pushFrame: the navigator's own star
 ///                                          tracker processes it with the loop's inputs
 ///                                          (replay; Source::kCameraFrames);
@@ -41,6 +42,7 @@
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/observation_from_frame.hpp"
+#include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/star_tracker.hpp"
 
 namespace st {
@@ -126,6 +128,7 @@ class Navigator {
   uint64_t next_tag_ = 0;
   std::map<uint64_t, mrpt::obs::CObservation::Ptr> held_;  // until their step
   CObservationStarTracker::Ptr frame_obs_;  // the observation of the frame being processed
+  FrozenFrameCheck frozen_;  // a repeated readout is not processed
   int frozen_frames_ = 0;
 
   std::optional<NavStep> pending_;  // a frame step waiting for a truth at the same time

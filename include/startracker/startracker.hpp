@@ -43,6 +43,7 @@
 #include "fusion/fusion_loop.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/tracking/frame.hpp"
+#include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/star_tracker.hpp"
 #include "sensors/tracking/tracker_options.hpp"
 
@@ -132,7 +133,8 @@ nlohmann::ordered_json frameResultJson(const FrameResult& r);
 class Tracker {
  public:
   /// Without `db`, builds one for `camera` (Database::forCamera). Throws InputError for
-  /// invalid options.
+  /// invalid options. A frame identical to the previous one (a frozen readout) is not
+  /// processed: FrameFailure::kFrozenImage.
   explicit Tracker(const CameraModel& camera, TrackerOptions options = {},
                    std::optional<Database> db = std::nullopt);
   ~Tracker();
@@ -144,6 +146,7 @@ class Tracker {
  private:
   Database db_;
   std::unique_ptr<StarTracker> tracker_;
+  FrozenFrameCheck frozen_;
 };
 
 }  // namespace st::api

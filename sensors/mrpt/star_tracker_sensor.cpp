@@ -326,7 +326,8 @@ void CStarTrackerSensor::processFrame(mrpt::obs::CObservationImage& image_obs,
   // The frame is recorded with the camera it was processed with (replay starts from the
   // first frame's and refines as this run did).
   image_obs.cameraParams = tracker_->camera().toTCamera();
-  const FrameResult frame = tracker_->process(image, t_s, inputs);
+  const std::optional<double> seen = frozen_.repeats(image, t_s);
+  const FrameResult frame = seen ? frozenFrameResult(*seen) : tracker_->process(image, t_s, inputs);
   if (frame.camera_updated) updateCameraReport();
   auto obs = observationFromFrame(frame, t, m_sensorLabel, opts_.sensor_pose);
   ++frames_;

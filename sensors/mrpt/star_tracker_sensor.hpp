@@ -55,6 +55,7 @@
 
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/mrpt/observation_from_frame.hpp"
+#include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/star_tracker.hpp"
 
 namespace st {
@@ -154,6 +155,7 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   DatabaseBuild db_build_;
   CameraModel camera_;
   std::unique_ptr<StarTracker> tracker_;
+  FrozenFrameCheck frozen_;  // a repeated readout is not processed (frozen_frame.hpp)
   int image_counter_ = 0;
   /// The tracker's time: seconds from the first frame (it only takes differences).
   std::optional<mrpt::Clock::time_point> first_frame_;

@@ -1,5 +1,7 @@
 #include "sensors/tracking/frozen_frame.hpp"
 
+#include <cstdio>
+
 namespace st {
 
 namespace {
@@ -26,6 +28,15 @@ std::optional<double> FrozenFrameCheck::repeats(const cv::Mat& image, double t_s
   last_type_ = image.type();
   last_t_ = t_s;
   return std::nullopt;
+}
+
+FrameResult frozenFrameResult(double seen_t_s) {
+  FrameResult r;
+  char b[96];
+  std::snprintf(b, sizeof b, "frozen image: identical to the frame at t = %.6f s", seen_t_s);
+  r.failure = FrameFailure::kFrozenImage;
+  r.detail = b;
+  return r;
 }
 
 }  // namespace st

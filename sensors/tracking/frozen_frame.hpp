@@ -1,14 +1,19 @@
 /// @file frozen_frame.hpp
 /// A camera that repeats its readout (a frozen image): the same pixels again at a new time
-/// would give the old attitude stamped with the new time. The check is the tracker's, so
-/// replay's navigator and the live sensor share it. Cheap: a 64-bit FNV-1a hash of the
-/// pixels with the size and type. No pixels are kept: a grabber may reuse its buffer for the
-/// next frame, and two different frames share a hash with probability ~5e-20.
+/// would give the old attitude stamped with the new time. Every caller of a StarTracker that
+/// receives frames runs this one check before it: replay's navigator, the live sensor and the
+/// library's Tracker (frozenFrameResult: one answer for all). Not inside StarTracker::process:
+/// hashing a whole frame costs more than tracking it (the tracker reads only its windows),
+/// while a caller has just decoded or grabbed the frame anyway. A 64-bit FNV-1a hash of the
+/// pixels with the size and type; no pixels are kept (a grabber may reuse its buffer for the
+/// next frame), and two different frames share a hash with probability ~5e-20.
 #pragma once
 #include <opencv2/core.hpp>
 
 #include <cstdint>
 #include <optional>
+
+#include "sensors/tracking/frame.hpp"
 
 namespace st {
 
@@ -25,5 +30,8 @@ class FrozenFrameCheck {
   int last_type_ = -1;
   std::optional<double> last_t_;
 };
+
+/// The failed frame of a repeat of the frame at `seen_t_s` (FrameFailure::kFrozenImage).
+FrameResult frozenFrameResult(double seen_t_s);
 
 }  // namespace st

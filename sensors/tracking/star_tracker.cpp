@@ -125,17 +125,6 @@ void StarTracker::setAttitude(FrameResult& out, const CameraFix& fix) const {
 FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameInputs& in) {
   const auto t0 = Clock::now();
   FrameResult out;
-  if (const std::optional<double> seen = frozen_.repeats(image, t_s)) {
-    // Not new: a camera repeating its readout. Its stars would give the old attitude at the
-    // new time. Nothing of the tracking state changes: the next new frame is predicted as
-    // if this one had not come.
-    char b[96];
-    std::snprintf(b, sizeof b, "frozen image: identical to the frame at t = %.6f s", *seen);
-    out.failure = FrameFailure::kFrozenImage;
-    out.detail = b;
-    out.timings.total = seconds(t0, Clock::now());
-    return out;
-  }
   if (in.force_lost_in_space) reset();
   // The measured body rate in the camera frame: the external prediction's, else the gyro's.
   const Mat3 R_cb = R_bc_.transpose();

@@ -59,7 +59,6 @@
 #include "sensors/tracking/frame.hpp"
 #include "sensors/tracking/frame_predictor.hpp"
 #include "sensors/tracking/frame_rate.hpp"
-#include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/online_camera.hpp"
 #include "sensors/tracking/tracker_options.hpp"
 
@@ -128,7 +127,6 @@ class StarTracker {
   OnlineCamera online_;
   double model_error_px_ = 0;
   bool camera_verified_ = false;  // a fix verified with camera_: no more healing searches
-  FrozenFrameCheck frozen_;       // a repeated readout is refused before anything else
   // The last solved frame's stars: the partner of the next fix's rate (frame_rate.hpp). Kept
   // through reset(): its identities were verified, whatever the mode of the next fix.
   std::optional<RateFrame> rate_prev_;
