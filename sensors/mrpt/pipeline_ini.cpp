@@ -128,7 +128,9 @@ const SectionSchema<OnlineCameraOptions>& onlineCameraSchema() {
       SectionSchema<O>()
           .add("cam_online", &O::enabled,
                "refine the camera online from verified frames (focal length, k1)")
-          .add("cam_online_frames", &O::frames_per_fit, "verified frames per online camera fit")
+          .add("cam_online_frames", &O::frames_per_fit,
+               "verified frames per online camera fit (fits then come ever more rarely, up to "
+               "64x, while they find no model error)")
           .add("cam_forgetting", &O::forgetting,
                "information kept from one online camera fit to the next, (0, 1]")
           .add("cam_prior_focal_rel", &O::prior_focal_rel,

@@ -16,7 +16,8 @@ double significantModelErrorPx(const CameraFitResult& fit, const std::vector<Fra
 OnlineCamera::OnlineCamera(const CameraModel& file_camera, OnlineCameraOptions options)
     : file_(file_camera),
       opts_(options),
-      prior_(CameraPrior::around(file_camera, options.prior_focal_rel, 0, options.prior_k1)) {
+      prior_(CameraPrior::around(file_camera, options.prior_focal_rel, 0, options.prior_k1)),
+      interval_(options.frames_per_fit) {
   // k2 stays the file's: one term is what a few frames of a narrow field determine.
   prior_.information(kK2, kK2) = 0;
 }
@@ -39,8 +40,11 @@ void OnlineCamera::adopt(const CameraFitResult& fit) {
 std::optional<OnlineCameraUpdate> OnlineCamera::addVerifiedFrame(const CameraModel& current,
                                                                  FrameStars stars) {
   if (!opts_.enabled || stars.size() < 3) return std::nullopt;
+  // Only the last frames_per_fit verified frames before a fit are gathered.
+  if (++since_fit_ <= interval_ - opts_.frames_per_fit) return std::nullopt;
   pending_.push_back(std::move(stars));
   if (static_cast<int>(pending_.size()) < opts_.frames_per_fit) return std::nullopt;
+  since_fit_ = 0;
   CameraFitSpec spec;
   spec.focal = true;
   // Not the principal point: a shift of it is, to first order, a rotation of the camera in
@@ -59,6 +63,10 @@ std::optional<OnlineCameraUpdate> OnlineCamera::addVerifiedFrame(const CameraMod
   std::optional<OnlineCameraUpdate> out;
   if (fit.ok) {
     const double model_px = significantModelErrorPx(fit, pending_, opts_.max_model_error_px);
+    // A model that explains the residuals is refitted ever more rarely (a lens changes
+    // slowly; each fit costs ~10 frames' tracking); one that does not, at the full rate.
+    interval_ = model_px > 0 ? opts_.frames_per_fit
+                             : std::min(2 * interval_, kMaxIntervalFits * opts_.frames_per_fit);
     prior_ = fit.posterior();
     last_ = fit;
     out = OnlineCameraUpdate{std::move(fit), model_px};

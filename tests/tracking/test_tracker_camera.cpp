@@ -92,8 +92,9 @@ TEST(TrackerCamera, AFileTwoPercentOffWithoutDistortionIsHealedAndRefinedOnline)
   const CameraRun r = run(tracker, truth, 80, 1901);
   EXPECT_EQ(r.solved, r.frames);
   expectRightStars(r.stats);
-  // The first frame heals the file; the online fits (every 10 frames) refine it.
-  EXPECT_GE(r.camera_updates, 1 + 6);
+  // The first frame heals the file; the online fits refine it: after 10, 30 and 70 verified
+  // frames (the interval doubles while a fit finds no model error, online_camera.hpp).
+  EXPECT_GE(r.camera_updates, 1 + 3);
   ASSERT_TRUE(tracker.cameraFit().has_value());
   const CameraFitResult& fit = *tracker.cameraFit();
   // The refined camera against the truth, within 4 sigma of its own uncertainty (the online
