@@ -188,15 +188,10 @@ void SensorRunner::loop() {
         count_ += obs.size();
         queue_.push(std::move(obs));
       }
-      if (const auto* t = dynamic_cast<const CStarTrackerSensor*>(spec_.sensor.get());
-          t && t->sourceFinished()) {
-        state_ = State::kFinished;
-        queue_.report(who + " finished: its source has no more frames");
-        return;
-      }
       if (const auto* f = dynamic_cast<const FiniteSensor*>(spec_.sensor.get());
           f && f->finished()) {
         state_ = State::kFinished;
+        // A star tracker's folder or scenario has ended, a simulated gyro's scenario too.
         queue_.report(who + " finished: it has no more data");
         return;
       }

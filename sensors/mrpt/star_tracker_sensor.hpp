@@ -54,6 +54,7 @@
 #include <string>
 
 #include "sensors/camera/camera_model.hpp"
+#include "sensors/mrpt/image_source.hpp"
 #include "sensors/mrpt/observation_from_frame.hpp"
 #include "sensors/tracking/frozen_frame.hpp"
 #include "sensors/tracking/star_tracker.hpp"
@@ -64,7 +65,7 @@ class StarDatabase;
 struct IniReader;
 struct StarTrackerSensorKeys;
 
-class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
+class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor, public FiniteSensor {
   DEFINE_GENERIC_SENSOR(CStarTrackerSensor)
  public:
   /// Called from the sensor's thread with a frame's timestamp before the frame is processed;
@@ -115,6 +116,7 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor {
   /// True when the inner source has no more frames (a finished simulated scenario, the end of
   /// an image_dir grabber's folder).
   bool sourceFinished() const;
+  bool finished() const override { return sourceFinished(); }  ///< FiniteSensor
 
  protected:
   void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& cfg,
