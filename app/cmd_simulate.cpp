@@ -86,6 +86,11 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
       std::printf("%s: %d frames (%d dropped), %d gyro samples, %zu observations, seed %llu\n",
                   o->output.c_str(), s.frames, s.frames_dropped, s.gyro_samples, s.objects,
                   static_cast<unsigned long long>(s.seed));
+      if (sc.orbit)
+        std::printf("orbit: %.0f km, inclination %.1f deg, %.3f km/s (aberration up to %.2f arcsec), "
+                    "%d velocity samples\n",
+                    sc.orbit->altitude_km, sc.orbit->inclination_deg, sc.orbit->speedKmS(),
+                    rad2arcsec(sc.orbit->speedKmS() / kSpeedOfLightKmS), s.velocity_samples);
       std::printf("camera: %s\n", sc.camera.describe().c_str());
       if (!s.images_dir.empty()) std::printf("images: %s\n", s.images_dir.c_str());
       return kExitOk;

@@ -62,14 +62,6 @@ Vec3 applyParallax(const Vec3& u_bary, double parallax, const Vec3& observer_au)
   return (u_bary - parallax * observer_au).normalized();
 }
 
-Vec3 applyAberration(const Vec3& u, const Vec3& velocity_km_s) {
-  const Vec3 beta = velocity_km_s / kSpeedOfLightKmS;
-  const double b2 = beta.squaredNorm();
-  const double inv_gamma = std::sqrt(1.0 - b2);
-  const double ub = u.dot(beta);
-  return ((inv_gamma * u + (1.0 + ub / (1.0 + inv_gamma)) * beta) / (1.0 + ub)).normalized();
-}
-
 Vec3 apparentDirection(const CatalogEntry& e, double catalog_epoch_jyear, double epoch_jyear,
                        bool parallax, bool aberration) {
   Vec3 u = propagateSpaceMotion(e, catalog_epoch_jyear, epoch_jyear);

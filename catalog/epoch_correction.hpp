@@ -16,6 +16,7 @@
 #pragma once
 #include "catalog/star_catalog.hpp"
 #include "common/attitude.hpp"
+#include "common/aberration.hpp"  // applyAberration (annual here)
 
 namespace st {
 
@@ -37,9 +38,6 @@ Vec3 propagateSpaceMotion(const CatalogEntry& e, double catalog_epoch_jyear, dou
 /// normalise(u - parallax * observer_au). No-op for parallax <= 0.
 Vec3 applyParallax(const Vec3& u_bary, double parallax, const Vec3& observer_au);
 
-/// Annual (stellar) aberration for an observer moving at `velocity_km_s`, special-relativistic
-/// form: u' = (u / gamma + (1 + u.beta / (1 + 1/gamma)) beta) / (1 + u.beta).
-Vec3 applyAberration(const Vec3& u, const Vec3& velocity_km_s);
 
 /// All three in order: proper motion to `epoch_jyear`, then parallax and aberration for the
 /// Earth at that epoch (each optional).

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/aberration.hpp"
 #include "common/check.hpp"
+#include "common/conventions.hpp"
 #include "common/errors.hpp"
 
 namespace st {
@@ -34,6 +36,7 @@ bool FusionOptions::isValid(std::string* why) const {
   if (!isRotation(R_body_gyro)) return bad("R_body_gyro", "not a rotation matrix");
   if (!isRotation(R_body_camera)) return bad("R_body_camera", "not a rotation matrix");
   if (max_warnings < 0) return bad("max_warnings", "must be >= 0");
+  if (!(max_velocity_age_s >= 0)) return bad("max_velocity_age_s", "must be >= 0");
   if (!gyro_health.isValid(&err)) {
     if (why) *why = err;  // already "'<key>': ..."
     return false;
@@ -104,6 +107,21 @@ void FusionLoop::pushGyro(double t, const Vec3& rate_gyro) {
   push(std::move(e));
 }
 
+void FusionLoop::pushVelocity(double t, const Vec3& velocity_km_s) {
+  if (!opts_.velocity_aberration) {
+    if (velocity_ignored_++ == 0)
+      warn("velocity samples (first at " + formatLoopTime(t) +
+           ") not used: velocity_aberration is off");
+    return;
+  }
+  // Faster than light is not a velocity (and would make the aberration undefined).
+  if (!velocity_km_s.allFinite() || !(velocity_km_s.norm() < 0.1 * kSpeedOfLightKmS)) {
+    warn("velocity sample at " + formatLoopTime(t) + " not finite or above c/10: dropped");
+    return;
+  }
+  push(Event{t, kVelocity, 0, 0, velocity_km_s, std::nullopt, {}});
+}
+
 void FusionLoop::pushFrame(double t, uint64_t tag) {
   push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::nullopt, {}});
 }
@@ -117,7 +135,7 @@ void FusionLoop::pushMarker(double t, uint64_t tag) {
 }
 
 void FusionLoop::push(Event e) {
-  static const char* const kNames[] = {"gyro sample", "frame", "marker"};
+  static const char* const kNames[] = {"gyro sample", "velocity sample", "frame", "marker"};
   const std::pair<double, int> key{e.t, e.kind};
   if (!std::isfinite(e.t)) {
     warn(std::string(kNames[e.kind]) + " with a non-finite time: dropped");
@@ -223,6 +241,12 @@ void FusionLoop::process(Event& e) {
   last_processed_ = {e.t, e.kind};
   switch (e.kind) {
     case kGyro: onGyro(e.t, e.rate); break;
+    case kVelocity:
+      // A few kept: a frame asks for the newest sample up to its own time, and samples up to
+      // the reorder window later may already be processed.
+      if (velocities_.size() == 8) velocities_.erase(velocities_.begin());
+      velocities_.emplace_back(e.t, e.rate);
+      break;
     case kFrame: onFrame(e); break;
     case kMarker: {
       FusionStep s;
@@ -366,8 +390,30 @@ void FusionLoop::coastTo(double t) {
 // (fixed-size 6x6 matrices) is copied.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+std::optional<Vec3> FusionLoop::velocityAt(double t) const {
+  std::optional<std::pair<double, Vec3>> v;
+  for (auto it = velocities_.rbegin(); it != velocities_.rend() && !v; ++it)
+    if (it->first <= t) v = *it;
+  for (const Event& e : queue_) {
+    if (e.kind == kVelocity && e.t <= t && (!v || e.t > v->first)) v = std::make_pair(e.t, e.rate);
+  }
+  if (!v) return std::nullopt;
+  if (t - v->first > opts_.max_velocity_age_s) {
+    if (!velocity_stale_warned_) {
+      velocity_stale_warned_ = true;
+      const_cast<FusionLoop*>(this)->warn(
+          "velocity at " + formatLoopTime(t) + " is " + std::to_string(t - v->first) +
+          " s old (max_velocity_age_s): frames not corrected for aberration until a new sample");
+    }
+    return std::nullopt;
+  }
+  velocity_stale_warned_ = false;
+  return v->second;
+}
+
 FrameInputs FusionLoop::frameInputs(double t) const {
   FrameInputs in;
+  in.observer_velocity_km_s = velocityAt(t);
   // Gyro samples still held for ordering are already known: a live tracker asks ahead of the
   // filter, and one noisy sample extrapolated over the whole window would be worse.
   std::vector<TimedRate>& ahead = ahead_;
@@ -470,7 +516,7 @@ FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u)
     return FixUse::kReinitialized;
   }
   if (t > filter_.time()) filter_.predictTo(t);
-  u = update(fix);
+  u = update(t, fix);
   if (u.accepted) return FixUse::kAccepted;
   if (filter_.consecutiveRejections() >= opts_.reinit_after_rejections) {
     warn(std::to_string(filter_.consecutiveRejections()) +
@@ -494,7 +540,7 @@ void FusionLoop::initializeFrom(double t, const FrameResult& fix) {
   filter_.initialize(t, fix.q_ib, fix.rate->rate_body, P);
 }
 
-MekfUpdateResult FusionLoop::update(const FrameResult& fix) {
+MekfUpdateResult FusionLoop::update(double t, const FrameResult& fix) {
   if (opts_.update == FusionOptions::Update::kAttitude || fix.stars.size() < 2 ||
       !star_direction_) {
     return filter_.updateAttitude(fix.q_ib, fix.cov_body);
@@ -507,11 +553,12 @@ MekfUpdateResult FusionLoop::update(const FrameResult& fix) {
   const double sigma = std::sqrt(2.0 * n / std::max(info.trace(), 1e-300));
   std::vector<StarVectorMeasurement> meas;
   meas.reserve(fix.stars.size());
+  const std::optional<Vec3> v = velocityAt(t);  // the fix's tracker had the same
   for (const MatchedStar& m : fix.stars) {
     const std::optional<Vec3> r = star_direction_(m.catalog_id);
     if (!r) continue;
     meas.push_back(StarVectorMeasurement::fromSigma((opts_.R_body_camera * m.v_cam).normalized(),
-                                                    *r, sigma));
+                                                    v ? applyAberration(*r, *v) : *r, sigma));
   }
   if (meas.empty()) return filter_.updateAttitude(fix.q_ib, fix.cov_body);
   return filter_.updateStarVectors(meas);

@@ -38,6 +38,9 @@
 ///    (FrameInputs::force_lost_in_space) and re-initialises the attitude from the next
 ///    lost-in-space fix, keeping the bias (AttitudeMekf::resetAttitude). Tracking fixes made
 ///    before that request was seen are not used;
+///  - observer velocity: the newest velocity sample up to a frame (no older than
+///    max_velocity_age_s) goes to its tracker (FrameInputs::observer_velocity_km_s), and the
+///    star-vector updates aberrate their catalog directions with it;
 ///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector;
 ///  - gyroless (filter.model kGyroless, fusion/gyroless_model.hpp): the filter's state holds
 ///    the body rate and propagates itself between frames; gyro samples are not used (one
@@ -91,6 +94,13 @@ struct FusionOptions {
   GyroHealthOptions gyro_health;
   /// Refuse frames stamped ahead of the gyro's timeline (see the policy above).
   bool check_camera_clock = true;
+  /// Use the observer's velocity samples (pushVelocity): every frame's tracker corrects its
+  /// fix for their aberration, star-vector updates use the apparent directions.
+  bool velocity_aberration = true;
+  /// [s] the newest velocity sample at most this old at a frame is its velocity; an older
+  /// one leaves the frame uncorrected (a warning). An orbit turns 0.07 deg/s: 10 s of hold
+  /// moves its aberration by 0.06".
+  double max_velocity_age_s = 10;
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -151,6 +161,8 @@ class FusionLoop {
 
   /// Rate [rad/s] in the gyro frame: the mean over the interval ending at t.
   void pushGyro(double t, const Vec3& rate_gyro);
+  /// The observer's velocity [km/s] in the inertial frame at t (see velocity_aberration).
+  void pushVelocity(double t, const Vec3& velocity_km_s);
   /// A frame to process with the FrameProcessor when it is due.
   void pushFrame(double t, uint64_t tag);
   /// A frame already processed (its tracker asked frameInputs() itself).
@@ -181,12 +193,12 @@ class FusionLoop {
   bool gyroless() const { return filter_.gyroless(); }
 
  private:
-  enum Kind : int { kGyro = 0, kFrame = 1, kMarker = 2 };
+  enum Kind : int { kGyro = 0, kVelocity = 1, kFrame = 2, kMarker = 3 };
   struct Event {
     double t;
     int kind;
     uint64_t seq, tag;
-    Vec3 rate;                        // kGyro (body frame)
+    Vec3 rate;                        // kGyro (body frame); kVelocity [km/s]
     std::optional<FrameResult> fix;   // kFrame made elsewhere
     std::string refused;              // kFrame: why it is not processed (camera clock)
     bool operator<(const Event& o) const;  // heap order: later is "less"
@@ -210,10 +222,12 @@ class FusionLoop {
   FixUse useFix(double t, const FrameResult& fix, MekfUpdateResult& u);
   /// (Re-)initialises the filter from a fix (gyroless: the rate from the fix's own rate).
   void initializeFrom(double t, const FrameResult& fix);
-  MekfUpdateResult update(const FrameResult& fix);
+  MekfUpdateResult update(double t, const FrameResult& fix);
   void coastTo(double t);
   bool gyroStale(double t) const;
   bool gyroLost(double t) const;
+  /// The velocity for a frame at t: the newest sample up to t, processed or still held.
+  std::optional<Vec3> velocityAt(double t) const;
   Vec3 meanRate(double t, const std::vector<TimedRate>& extra) const;
   FilterState stateAt(double t) const;
   void emit(FusionStep& s);
@@ -242,6 +256,9 @@ class FusionLoop {
   std::optional<double> newest_gyro_t_;  // the gyro's timeline as pushed
   int clock_refused_ = 0;
   int gyro_ignored_ = 0;  // samples of a gyroless run
+  std::vector<std::pair<double, Vec3>> velocities_;  // the last velocity samples processed
+  int velocity_ignored_ = 0;
+  mutable bool velocity_stale_warned_ = false;
   int gyro_since_frame_ = 0;  // gyro samples pushed since the last frame (arrival order)
   bool filter_suspended_ = false;  // since the gyro was lost, until re-initialised
   bool reinit_pending_ = false;

@@ -50,6 +50,10 @@ bool isGyroObservation(const mrpt::obs::CObservation& obs, const NavigatorOption
 }
 
 bool NavigatorOptions::isValid(std::string* why) const {
+  if (!velocity_label.empty() && velocity_label == gyro_label) {
+    if (why) *why = "'velocity_label': the same as gyro_label ('" + gyro_label + "')";
+    return false;
+  }
   return fusion.isValid(why) && pipeline.trackerOptions().isValid(why);
 }
 
@@ -99,6 +103,9 @@ Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs) const {
     return kFix;
   if (l == opts_.truth_label && dynamic_cast<const mrpt::obs::CObservation6DFeatures*>(&obs))
     return kTruth;
+  if (!opts_.velocity_label.empty() && l == opts_.velocity_label &&
+      dynamic_cast<const mrpt::obs::CObservationIMU*>(&obs))
+    return kVelocity;
   return kOther;
 }
 
@@ -124,6 +131,14 @@ void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
     case kTruth:
       held_[tag] = obs;
       loop_.pushMarker(t, tag);
+      return;
+    case kVelocity:
+      if (const auto v = velocityFromObservation(static_cast<const mrpt::obs::CObservationIMU&>(*obs))) {
+        loop_.pushVelocity(t, *v);
+      } else {
+        warn(opts_.velocity_label + " observation at " + formatLoopTime(t) +
+             " without IMU_X_VEL, IMU_Y_VEL and IMU_Z_VEL: dropped");
+      }
       return;
     default: return;
   }

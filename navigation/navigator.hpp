@@ -16,6 +16,8 @@
 ///   STAR_TRACKER (CObservationStarTracker) -> FusionLoop::pushFix: a fix made by a sensor
 ///                                          that asked frameInputs() itself (live;
 ///                                          Source::kStarTrackerFixes);
+///   VELOCITY (CObservationIMU, IMU_*_VEL)   -> FusionLoop::pushVelocity (the aberration of the
+///                                          observer's own motion, corrected in every fix);
 ///   GROUND_TRUTH (CObservation6DFeatures) -> a marker: scored against the filter's state
 ///                                          there (navigation/truth_scoring.hpp), never seen
 ///                                          by the estimator.
@@ -52,6 +54,7 @@ struct NavigatorOptions {
   FusionOptions fusion;
   std::string camera_label = "CAMERA", gyro_label = "GYRO", truth_label = "GROUND_TRUTH";
   std::string star_tracker_label = "STAR_TRACKER";  ///< fixes read in kStarTrackerFixes
+  std::string velocity_label = "VELOCITY";  ///< the observer's velocity (aberration)
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -109,7 +112,7 @@ class Navigator {
   const NavigatorOptions& options() const { return opts_; }
 
  private:
-  enum Kind { kGyro, kCamera, kFix, kTruth, kOther };
+  enum Kind { kGyro, kCamera, kFix, kTruth, kVelocity, kOther };
   Kind kindOf(const mrpt::obs::CObservation& obs) const;
   FrameResult processFrame(uint64_t tag, double t, const FrameInputs& in);
   CObservationStarTracker::Ptr observationOf(const FrameResult& r, mrpt::Clock::time_point t) const;

@@ -53,6 +53,9 @@ NavigatorIniKeys NavigatorIniKeys::of(const NavigatorOptions& o) {
   k.gyro_label = o.gyro_label;
   k.truth_label = o.truth_label;
   k.star_tracker_label = o.star_tracker_label;
+  k.velocity_label = o.velocity_label;
+  k.velocity_aberration = f.velocity_aberration;
+  k.max_velocity_age_s = f.max_velocity_age_s;
   return k;
 }
 
@@ -94,7 +97,16 @@ const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
             .add("camera_label", &K::camera_label, "rawlog label of the frames")
             .add("gyro_label", &K::gyro_label, "rawlog label of the gyro")
             .add("truth_label", &K::truth_label, "rawlog label of the truth")
-            .add("star_tracker_label", &K::star_tracker_label, "rawlog label of the fixes (live)");
+            .add("star_tracker_label", &K::star_tracker_label, "rawlog label of the fixes (live)")
+            .add("velocity_label", &K::velocity_label,
+                 "rawlog label of the observer's velocity (CObservationIMU IMU_X/Y/Z_VEL [m/s], "
+                 "inertial, relative to the Earth's centre)")
+            .add("velocity_aberration", &K::velocity_aberration,
+                 "correct every fix for the aberration of the observer's velocity (false: "
+                 "VELOCITY samples are not used)")
+            .add("max_velocity_age_s", &K::max_velocity_age_s,
+                 "[s] a velocity sample older than this at a frame is not used (the frame is "
+                 "not corrected, one warning)");
     if (with_enabled) s.add("enabled", &K::enabled, "run the filter");
     return s;
   };
@@ -137,6 +149,8 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   f.max_gyro_coast_s = k.max_gyro_coast_s;
   f.rate_window_s = k.rate_window_s;
   f.max_warnings = k.max_warnings;
+  f.velocity_aberration = k.velocity_aberration;
+  f.max_velocity_age_s = k.max_velocity_age_s;
   GyroHealthOptions& h = f.gyro_health;
   h.enabled = k.gyro_health;
   h.max_angular_accel_rad_s2 = deg2rad(k.gyro_max_accel_deg_s2);
@@ -155,6 +169,7 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   n.gyro_label = k.gyro_label;
   n.truth_label = k.truth_label;
   n.star_tracker_label = k.star_tracker_label;
+  n.velocity_label = k.velocity_label;
   std::string why;
   if (!f.filter.isValid(&why)) throw InputError(r.where("filter") + ": " + why);
   if (!f.isValid(&why)) throw InputError(r.where("navigator") + " key " + why);

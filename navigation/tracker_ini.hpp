@@ -49,7 +49,9 @@ struct NavigatorIniKeys {
   int gyro_spike_median_of = 5, gyro_step_after = 3, gyro_health_window = 20;
   double gyro_noise_factor = 4;
   int gyro_noisy_flags = 4;
-  std::string camera_label, gyro_label, truth_label, star_tracker_label;
+  std::string camera_label, gyro_label, truth_label, star_tracker_label, velocity_label;
+  bool velocity_aberration = true;
+  double max_velocity_age_s = 10;
   bool enabled = true;  ///< live only
 
   /// The keys of `o` (its defaults; the gyro mount as identity).

@@ -60,7 +60,7 @@ void LiveNavigator::start(std::optional<mrpt::Clock::time_point> first_frame) {
   for (const auto& obs : held) {
     const std::string& l = obs->sensorLabel;
     const bool known = l == o.gyro_label || l == o.truth_label || l == o.camera_label ||
-                       l == o.star_tracker_label;
+                       l == o.star_tracker_label || (!o.velocity_label.empty() && l == o.velocity_label);
     if (known && (!origin || obs->timestamp < *origin)) origin = obs->timestamp;
   }
   if (origin) nav_.setTimeOrigin(*origin);

@@ -31,6 +31,18 @@ mrpt::obs::CObservationIMU::Ptr makeGyroObservation(const Vec3& rate_body,
   return obs;
 }
 
+mrpt::obs::CObservationIMU::Ptr makeVelocityObservation(const Vec3& velocity_km_s,
+                                                        mrpt::Clock::time_point t,
+                                                        const std::string& label) {
+  auto obs = mrpt::obs::CObservationIMU::Create();
+  obs->timestamp = t;
+  obs->sensorLabel = label;
+  obs->set(mrpt::obs::IMU_X_VEL, 1e3 * velocity_km_s.x());
+  obs->set(mrpt::obs::IMU_Y_VEL, 1e3 * velocity_km_s.y());
+  obs->set(mrpt::obs::IMU_Z_VEL, 1e3 * velocity_km_s.z());
+  return obs;
+}
+
 mrpt::obs::CObservation6DFeatures::Ptr makeTruthObservation(const FrameTruth& truth,
                                                             mrpt::Clock::time_point t,
                                                             const std::string& label) {
@@ -57,6 +69,12 @@ FrameTruth truthFromObservation(const mrpt::obs::CObservation6DFeatures& obs) {
 
 Vec3 rateFromObservation(const mrpt::obs::CObservationIMU& obs) {
   return Vec3(obs.get(mrpt::obs::IMU_WX), obs.get(mrpt::obs::IMU_WY), obs.get(mrpt::obs::IMU_WZ));
+}
+
+std::optional<Vec3> velocityFromObservation(const mrpt::obs::CObservationIMU& obs) {
+  using namespace mrpt::obs;
+  if (!obs.has(IMU_X_VEL) || !obs.has(IMU_Y_VEL) || !obs.has(IMU_Z_VEL)) return std::nullopt;
+  return Vec3(obs.get(IMU_X_VEL), obs.get(IMU_Y_VEL), obs.get(IMU_Z_VEL)) * 1e-3;
 }
 
 }  // namespace st

@@ -9,6 +9,10 @@
 ///  - GROUND_TRUTH (simulated runs only): CObservation6DFeatures at each frame time:
 ///    sensorPose = true q_ib (zero translation), sensedFeatures[k]: id = catalog id,
 ///    pose x, y = true pixel position at mid-exposure, z = V magnitude;
+///  - VELOCITY (optional): CObservationIMU, IMU_X_VEL/Y_VEL/Z_VEL = the observer's velocity
+///    [m/s] in the inertial frame, relative to the Earth's centre (the part of its motion whose
+///    aberration the star database does not hold: the database is aberrated for the Earth's
+///    orbit at its epoch), e.g. an orbit's velocity from the on-board propagator;
 ///  - STAR_TRACKER: CObservationStarTracker (observation_star_tracker.hpp).
 /// The encoders and decoders live here, once; the simulator and the navigator both use them.
 #pragma once
@@ -18,6 +22,7 @@
 #include <mrpt/obs/CObservationImage.h>
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +35,7 @@ inline constexpr const char* kCameraLabel = "CAMERA";
 inline constexpr const char* kGyroLabel = "GYRO";
 inline constexpr const char* kGroundTruthLabel = "GROUND_TRUTH";
 inline constexpr const char* kStarTrackerLabel = "STAR_TRACKER";
+inline constexpr const char* kVelocityLabel = "VELOCITY";
 
 /// One true star of a GROUND_TRUTH observation.
 struct TruthStar {
@@ -52,6 +58,10 @@ mrpt::obs::CObservationImage::Ptr makeCameraObservation(const cv::Mat& image,
 mrpt::obs::CObservationIMU::Ptr makeGyroObservation(const Vec3& rate_body,
                                                     mrpt::Clock::time_point t,
                                                     const std::string& label = kGyroLabel);
+/// `velocity_km_s` in the contract's m/s.
+mrpt::obs::CObservationIMU::Ptr makeVelocityObservation(const Vec3& velocity_km_s,
+                                                        mrpt::Clock::time_point t,
+                                                        const std::string& label = kVelocityLabel);
 mrpt::obs::CObservation6DFeatures::Ptr makeTruthObservation(
     const FrameTruth& truth, mrpt::Clock::time_point t,
     const std::string& label = kGroundTruthLabel);
@@ -59,5 +69,8 @@ mrpt::obs::CObservation6DFeatures::Ptr makeTruthObservation(
 FrameTruth truthFromObservation(const mrpt::obs::CObservation6DFeatures& obs);
 /// The body rate of a GYRO observation.
 Vec3 rateFromObservation(const mrpt::obs::CObservationIMU& obs);
+/// The velocity [km/s] of a VELOCITY observation; nothing when it lacks one of the three
+/// components.
+std::optional<Vec3> velocityFromObservation(const mrpt::obs::CObservationIMU& obs);
 
 }  // namespace st

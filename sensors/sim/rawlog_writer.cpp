@@ -41,19 +41,34 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
   ProgressBar bar("simulate", static_cast<std::size_t>(n_frames), opts.progress);
   GyroSample g;
   bool have_gyro = sim.nextGyro(g);
-  auto flush_gyro_until = [&](double t) {
-    // Gyro samples up to and including time t go first (their interval ends by then).
-    while (have_gyro && g.t <= t + 1e-12) {
-      ar << *makeGyroObservation(g.rate, sc.timestamp(g.t));
-      ++sum.objects;
-      ++sum.gyro_samples;
-      have_gyro = sim.nextGyro(g);
+  VelocityStream velocity(sc);
+  VelocitySample vs;
+  bool have_velocity = velocity.next(vs);
+  auto flush_samples_until = [&](double t) {
+    // Gyro and velocity samples up to and including time t go first (a gyro interval ends by
+    // then), merged in time order, the gyro's first at equal times.
+    for (;;) {
+      const bool g_due = have_gyro && g.t <= t + 1e-12;
+      const bool v_due = have_velocity && vs.t <= t + 1e-12;
+      if (g_due && (!v_due || g.t <= vs.t)) {
+        ar << *makeGyroObservation(g.rate, sc.timestamp(g.t));
+        ++sum.objects;
+        ++sum.gyro_samples;
+        have_gyro = sim.nextGyro(g);
+      } else if (v_due) {
+        ar << *makeVelocityObservation(vs.velocity_km_s, sc.timestamp(vs.t));
+        ++sum.objects;
+        ++sum.velocity_samples;
+        have_velocity = velocity.next(vs);
+      } else {
+        break;
+      }
     }
   };
   char name[64];
   for (int k = 0; k < n_frames; ++k) {
     const SimFrame f = sim.frame(k);
-    flush_gyro_until(f.t);
+    flush_samples_until(f.t);
     // Written when the camera delivers it (after the gyro up to f.t), stamped by its clock.
     const auto stamp = sc.timestamp(f.stamp_t);
     if (!f.dropped) {
@@ -77,7 +92,7 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
     ++sum.frames;
     bar.update(static_cast<std::size_t>(k + 1));
   }
-  flush_gyro_until(sc.duration_s);
+  flush_samples_until(sc.duration_s);
   bar.finish();
   file.close();
   return sum;

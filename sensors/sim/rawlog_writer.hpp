@@ -1,7 +1,7 @@
 /// @file rawlog_writer.hpp
 /// Plays a scenario offline into an observation-only, gz-compressed rawlog (the format of
-/// sim_observations.hpp): GYRO, CAMERA and GROUND_TRUTH on one clock, in timestamp order
-/// (at equal timestamps: GYRO, then CAMERA, then GROUND_TRUTH). Images are stored as
+/// sim_observations.hpp): GYRO, VELOCITY (an orbit's), CAMERA and GROUND_TRUTH on one clock,
+/// in timestamp order (at equal timestamps: GYRO, VELOCITY, CAMERA, GROUND_TRUTH). Images are stored as
 /// external PNG files in `<rawlog stem>_Images/` beside the rawlog (MRPT's convention, so
 /// RawLogViewer finds them), or inline.
 #pragma once
@@ -27,6 +27,7 @@ struct SimulateSummary {
   int frames = 0;          ///< frame slots (GROUND_TRUTH objects)
   int frames_dropped = 0;  ///< of which without a CAMERA observation
   int gyro_samples = 0;
+  int velocity_samples = 0;  ///< VELOCITY observations (a scenario with an orbit)
   std::size_t objects = 0; ///< observations written
   std::string images_dir;  ///< empty when images are inline
   uint64_t seed = 0;

@@ -34,6 +34,18 @@ int Scenario::gyroSampleCount() const {
   return static_cast<int>(std::floor(duration_s * gyro->rate_hz + 1e-9));
 }
 
+int Scenario::velocitySampleCount() const {
+  if (!orbit || !(orbit->velocity_rate_hz > 0)) return 0;
+  return 1 + static_cast<int>(std::floor(duration_s * orbit->velocity_rate_hz + 1e-9));
+}
+
+bool VelocityStream::next(VelocitySample& out) {
+  if (done()) return false;
+  out.t = sc_.velocityTime(next_++);
+  out.velocity_km_s = sc_.observerVelocity(out.t);
+  return true;
+}
+
 double Scenario::epochJyear() const { return julianYearFromUnixSeconds(start_unix_s); }
 
 mrpt::Clock::time_point Scenario::timestamp(double t) const {
@@ -111,6 +123,8 @@ SimFrame SkySimulator::frame(int k) const {
                           : cv::Mat(background_ * (f.exposure_s / sc_.sensor.exposure_s));
   RenderOptions opts = render_opts_;
   opts.exposure_s = f.exposure_s;
+  // An exposure is ~0.1 s of a 90-minute orbit: the velocity at mid-exposure is its velocity.
+  opts.observer_velocity_km_s = sc_.observerVelocity(f.t);
   f.truth = renderer_->render(q_at, electrons, opts);
   if (f.dropped) return f;
   const int shown = frozenImageSource(sc_.faults, k, f.t, sc_.frame_rate_hz);

@@ -18,7 +18,9 @@
 ///                              warning, at the catalog's depth: V 6.6 for the default one)
 ///     aberration = true        apparent places (annual aberration), in-memory build
 ///     camera_section = camera, sensor_section = sensor, motion_section = motion,
-///     gyro_section = gyro (absent section = no gyro), faults_section = faults
+///     gyro_section = gyro (absent section = no gyro), faults_section = faults,
+///     orbit_section = orbit (absent section = no orbit: no aberration of the observer's own
+///     motion)
 ///   [camera]   CameraModel::loadIni keys: resolution = [w h] with either fx, fy, cx, cy
 ///              or fov_deg (horizontal); optional dist
 ///   [sensor]   SensorParams keys (sensor_params.hpp)
@@ -26,6 +28,8 @@
 ///   [gyro]     GyroParams keys (gyro_model.hpp) plus initial_bias_deg_h = x y z (turn-on
 ///              bias, default 0 0 0)
 ///   [faults]   FaultParams keys (faults.hpp)
+///   [orbit]    CircularOrbit keys (orbit.hpp): the sky is rendered aberrated by the orbit's
+///              velocity, and VELOCITY observations carry it (velocity_rate_hz)
 /// Relative paths (database, catalog) are relative to the scenario file's folder.
 /// Every section is read strictly (config/schema.hpp): an unknown key is an error naming
 /// the file, section and key, with the nearest valid key.
@@ -43,6 +47,7 @@
 #include "sensors/sim/faults.hpp"
 #include "sensors/sim/gyro_model.hpp"
 #include "sensors/sim/motion.hpp"
+#include "sensors/sim/orbit.hpp"
 #include "sensors/sim/sensor_params.hpp"
 #include "sensors/sim/star_renderer.hpp"
 #include "sensors/sim/star_source.hpp"
@@ -65,7 +70,7 @@ struct ScenarioKeys {
   double mag_limit = 6.6;
   bool aberration = true;
   std::string camera_section = "camera", sensor_section = "sensor", motion_section = "motion",
-              gyro_section = "gyro", faults_section = "faults";
+              gyro_section = "gyro", faults_section = "faults", orbit_section = "orbit";
 };
 
 /// The [gyro] section: GyroParams plus the run's turn-on bias.
@@ -83,6 +88,7 @@ struct ScenarioIni {
   MotionKeys motion;
   std::optional<ScenarioGyroKeys> gyro;
   FaultParams faults;
+  std::optional<CircularOrbit> orbit;
 };
 ScenarioIni readScenarioIni(const IniReader& r);
 /// The effective scenario in ini form, every default filled in; reads back to `sc`.
@@ -103,6 +109,7 @@ struct Scenario {
   std::shared_ptr<const MotionProfile> motion;
   std::optional<GyroParams> gyro;
   Vec3 gyro_initial_bias_rad_s = Vec3::Zero();
+  std::optional<CircularOrbit> orbit;
 
   /// Throws InputError naming the file, section and key.
   static Scenario load(const std::string& path);
@@ -113,6 +120,12 @@ struct Scenario {
   double frameTime(int k) const { return k / frame_rate_hz; }
   int gyroSampleCount() const;  ///< samples at t_j = j / rate_hz, j = 1.. while t_j <= duration
   double gyroTime(int j) const { return gyro ? j / gyro->rate_hz : 0.0; }
+  /// VELOCITY samples at t_j = j / velocity_rate_hz, j = 0.. while t_j <= duration (the first
+  /// at t = 0: the first frame has one); none without an orbit or at rate 0.
+  int velocitySampleCount() const;
+  double velocityTime(int j) const { return orbit ? j / orbit->velocity_rate_hz : 0.0; }
+  /// [km/s] the observer's velocity relative to the Earth's centre (zero without an orbit).
+  Vec3 observerVelocity(double t) const { return orbit ? orbit->velocityAt(t) : Vec3::Zero(); }
   double epochJyear() const;
   /// The clock: UTC of time t [s] from the start (exact to the clock tick).
   mrpt::Clock::time_point timestamp(double t) const;
@@ -162,6 +175,23 @@ class GyroStream {
   int next_ = 1;
   uint64_t seed_ = 0;
   Vec3 held_ = Vec3::Zero();  // a stuck axis' last good reading (faults.hpp)
+};
+
+/// The VELOCITY samples of a scenario's orbit (Scenario::velocitySampleCount), exact.
+struct VelocitySample {
+  double t = 0;                      ///< [s] from the start
+  Vec3 velocity_km_s = Vec3::Zero();
+};
+class VelocityStream {
+ public:
+  explicit VelocityStream(const Scenario& sc) : sc_(sc) {}
+  bool next(VelocitySample& out);
+  double nextTime() const { return sc_.velocityTime(next_); }
+  bool done() const { return next_ >= sc_.velocitySampleCount(); }
+
+ private:
+  Scenario sc_;
+  int next_ = 0;
 };
 
 class SkySimulator {

@@ -30,7 +30,10 @@ const SectionSchema<ScenarioKeys>& scenarioKeysSchema() {
           .add("sensor_section", &S::sensor_section, "section of the optics + detector model")
           .add("motion_section", &S::motion_section, "section of the true motion")
           .add("gyro_section", &S::gyro_section, "section of the gyro (absent = no gyro)")
-          .add("faults_section", &S::faults_section, "section of the faults (absent = none)");
+          .add("faults_section", &S::faults_section, "section of the faults (absent = none)")
+          .add("orbit_section", &S::orbit_section,
+               "section of the observer's circular orbit (absent = none: no aberration of its "
+               "own velocity)");
   return schema;
 }
 
@@ -73,6 +76,7 @@ ScenarioIni readScenarioIni(const IniReader& r) {
   checkNamedSection(r, "motion_section", k.motion_section, true);
   checkNamedSection(r, "gyro_section", k.gyro_section, false);
   checkNamedSection(r, "faults_section", k.faults_section, false);
+  checkNamedSection(r, "orbit_section", k.orbit_section, false);
   sc.camera = CameraModel::loadIni(r, k.camera_section);
   sc.sensor = SensorParams::fromConfig(r, k.sensor_section);
   sc.motion = readMotionKeys(r, k.motion_section);
@@ -85,6 +89,13 @@ ScenarioIni readScenarioIni(const IniReader& r) {
     sc.gyro = g;
   }
   sc.faults = FaultParams::fromConfig(r, k.faults_section);
+  if (r.cfg.sectionExists(k.orbit_section)) {
+    CircularOrbit o;
+    orbitSchema().read(r, k.orbit_section, o);
+    const std::string err = o.validate();
+    if (!err.empty()) throw InputError(r.where(k.orbit_section) + ": " + err);
+    sc.orbit = o;
+  }
   return sc;
 }
 
@@ -95,11 +106,16 @@ std::string printScenarioIni(const ScenarioIni& sc) {
   const std::string named = "\ngyro_section = " + k.gyro_section + "\n";
   if (const auto at = out.find(named); !sc.gyro && at != std::string::npos)
     out.replace(at, named.size(), "\n# gyro_section = " + k.gyro_section + " (absent: no gyro)\n");
+  const std::string orbit_named = "\norbit_section = " + k.orbit_section + "\n";
+  if (const auto at = out.find(orbit_named); !sc.orbit && at != std::string::npos)
+    out.replace(at, orbit_named.size(),
+                "\n# orbit_section = " + k.orbit_section + " (absent: no orbit)\n");
   out += cameraIniSchema().print(k.camera_section, sc.camera.iniKeys()) + "\n";
   out += sensorParamsSchema().print(k.sensor_section, sc.sensor) + "\n";
   out += motionSchema(sc.motion.type).print(k.motion_section, sc.motion) + "\n";
   if (sc.gyro) out += gyroKeysSchema().print(k.gyro_section, *sc.gyro) + "\n";
   out += faultParamsSchema().print(k.faults_section, sc.faults);
+  if (sc.orbit) out += "\n" + orbitSchema().print(k.orbit_section, *sc.orbit);
   return out;
 }
 
@@ -139,6 +155,7 @@ Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const st
     sc.gyro_initial_bias_rad_s = ini.gyro->initial_bias_deg_h * (kRadPerDeg / 3600.0);
   }
   sc.faults = ini.faults;
+  sc.orbit = ini.orbit;
   return sc;
 }
 

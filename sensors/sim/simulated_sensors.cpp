@@ -104,6 +104,10 @@ const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera) {
           cam ? "label of the truth emitted per frame; empty = none"
               : "label of the scenario's attitude truth at its frame times (for frames "
                 "from elsewhere: a folder rendered from the scenario); empty = none");
+    if (!cam)
+      s.add("velocity_label", &K::velocity_label,
+            "label of the scenario's [orbit] velocity samples (CObservationIMU IMU_*_VEL); "
+            "empty = none");
     return s;
   };
   static const auto camera_schema = make(true), gyro_schema = make(false);
@@ -212,6 +216,7 @@ void CSimulatedGyro::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBa
   scenario_file_ = resolveScenarioFile(cfg, k.scenario_file);
   seed_ = optionalSeed(r, section, k);
   truth_label_ = k.truth_label;
+  velocity_label_ = k.velocity_label;
 }
 
 void CSimulatedGyro::initialize() {
@@ -221,6 +226,8 @@ void CSimulatedGyro::initialize() {
     throw InputError(scenario_file_ + ": the scenario has no [gyro] section for CSimulatedGyro");
   stream_ = std::make_unique<GyroStream>(*scenario_, seed_.value_or(scenario_->seed));
   next_truth_ = 0;
+  velocity_.reset();
+  if (!velocity_label_.empty()) velocity_ = std::make_unique<VelocityStream>(*scenario_);
   done_ = false;
   m_state = ssWorking;
 }
@@ -228,6 +235,9 @@ void CSimulatedGyro::initialize() {
 void CSimulatedGyro::doProcess() {
   if (!stream_ || done_) return;
   const double now = simulatedSensorsElapsed();
+  // The velocity is known ahead (an orbit propagator's): due ones go first, so the frame at
+  // t = 0 already has the sample of t = 0, as in `simulate`.
+  appendVelocitiesUpTo(now);
   GyroSample g;
   while (stream_->nextTime() <= now) {
     if (!stream_->next(g)) {
@@ -239,7 +249,17 @@ void CSimulatedGyro::doProcess() {
     ++emitted_;
   }
   if (stream_->nextTime() > scenario_->duration_s + 1e-9) done_ = true;
-  if (done_) appendTruthsUpTo(scenario_->duration_s);
+  if (done_) {
+    appendTruthsUpTo(scenario_->duration_s);
+    appendVelocitiesUpTo(scenario_->duration_s);
+  }
+}
+
+void CSimulatedGyro::appendVelocitiesUpTo(double t) {
+  VelocitySample v;
+  while (velocity_ && !velocity_->done() && velocity_->nextTime() <= t + 1e-12 && velocity_->next(v))
+    appendObservation(makeVelocityObservation(v.velocity_km_s, scenario_->timestamp(v.t),
+                                              velocity_label_));
 }
 
 void CSimulatedGyro::appendTruthsUpTo(double t) {

@@ -20,6 +20,9 @@
 ///                                            its frame times, without stars, for frames that
 ///                                            come from elsewhere, e.g. a folder rendered
 ///                                            from the scenario played by a real grabber)
+///   velocity_label = VELOCITY               (gyro: the scenario's [orbit] velocity samples,
+///                                            the rawlog contract's VELOCITY, at its
+///                                            velocity_rate_hz; empty = none)
 /// process_rate must be at least the frame rate (camera) or gyro rate (gyro) to keep up.
 /// The section is read strictly (simulatedSensorSchema): an unknown key is an error with
 /// the nearest valid key, unless the section's driver is another class (CStarTrackerSensor
@@ -48,6 +51,7 @@ struct SimulatedSensorKeys {
   std::string scenario_file;
   std::string seed;  ///< empty = the scenario's seed
   std::string truth_label = "GROUND_TRUTH";  ///< the gyro's default is empty (no truth)
+  std::string velocity_label = "VELOCITY";  ///< gyro only: the orbit's velocity samples
 };
 /// The schema for CSimulatedStarCamera (`camera`) or CSimulatedGyro.
 const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera);
@@ -58,6 +62,7 @@ std::string printSimulatedSensorSection(const IniReader& r, const std::string& s
 
 class SkySimulator;
 class GyroStream;
+class VelocityStream;
 struct Scenario;
 
 class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor, public StarImageSource {
@@ -104,12 +109,15 @@ class CSimulatedGyro : public mrpt::hwdrivers::CGenericSensor, public FiniteSens
 
  private:
   void appendTruthsUpTo(double t);
+  void appendVelocitiesUpTo(double t);
 
   std::string scenario_file_;
   std::optional<uint64_t> seed_;
   std::unique_ptr<Scenario> scenario_;
   std::unique_ptr<GyroStream> stream_;
   std::string truth_label_;  // empty: no truth
+  std::string velocity_label_;
+  std::unique_ptr<VelocityStream> velocity_;
   int next_truth_ = 0;       // the next frame time whose truth is due
   int emitted_ = 0;
   bool done_ = false;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/aberration.hpp"
 #include "common/conventions.hpp"
 #include "sensors/sim/psf.hpp"
 #include "sensors/sim/random_streams.hpp"
@@ -55,16 +56,18 @@ std::vector<TrueStar> StarRenderer::render(const AttitudeAt& q_ib_at, cv::Mat& e
   const Vec3 boresight_i = R_mid.col(2);
   stars_.query(boresight_i, std::min(radius, 0.49 * kPi), scratch_);
 
+  const Vec3& v = opts.observer_velocity_km_s;
+  auto seen = [&v](const Vec3& u) { return v.isZero() ? u : applyAberration(u, v); };
   std::vector<Source> sources;
   sources.reserve(scratch_.size() + opts.extras.size());
   for (const SkyStar& s : scratch_) {
     if (isMissing(s.id, opts)) continue;
-    sources.push_back({s.u_i, light * sensor_.starElectrons(s.mag), sensor_.psf_sigma_px, true, s.id, s.mag});
+    sources.push_back({seen(s.u_i), light * sensor_.starElectrons(s.mag), sensor_.psf_sigma_px, true, s.id, s.mag});
   }
   const double cos_r = std::cos(radius);
   for (const ExtraSource& e : opts.extras)
     if (e.u_i.dot(boresight_i) >= cos_r)
-      sources.push_back({e.u_i, light * sensor_.starElectrons(e.mag), e.sigma_px, false, 0, e.mag});
+      sources.push_back({seen(e.u_i), light * sensor_.starElectrons(e.mag), e.sigma_px, false, 0, e.mag});
 
   // Sub-step count from the longest streak (start -> mid -> end) of any source.
   double max_len = 0;

@@ -59,6 +59,9 @@ struct RenderOptions {
   /// [s] this frame's exposure when it is not the sensor's (SensorParams::max_smear_px): the
   /// streaks span it and the stars' electrons scale with it; 0 = sensor().exposure_s.
   double exposure_s = 0;
+  /// [km/s] the observer's velocity relative to the star directions' observer (an orbit's,
+  /// orbit.hpp): every source is drawn at its aberrated direction (common/aberration.hpp).
+  Vec3 observer_velocity_km_s = Vec3::Zero();
 };
 
 class StarRenderer {

@@ -36,6 +36,11 @@ struct FrameInputs {
   /// Forget the tracking state before this frame and run lost-in-space (the fusion loop's
   /// re-initialisation policy: its prediction was refused too often).
   bool force_lost_in_space = false;
+  /// [km/s] The observer's velocity in the inertial frame whose aberration the star database
+  /// does not hold (an orbit's, relative to the Earth's centre: the rawlog contract's
+  /// VELOCITY). The fix is then the attitude against the stars' apparent directions for this
+  /// observer (seed 003 "Aberration": up to 5.7" for a low orbit), not a rotation off by it.
+  std::optional<Vec3> observer_velocity_km_s;
 };
 
 /// How the fix of a frame was obtained. Values are serialized (CObservationStarTracker).

@@ -13,6 +13,7 @@
 #include "sensors/detect/streaks.hpp"
 #include "sensors/identify/fov_search.hpp"
 #include "sensors/identify/star_observation.hpp"
+#include "sensors/tracking/observer_aberration.hpp"
 
 namespace st {
 
@@ -116,6 +117,11 @@ void StarTracker::acceptLostInSpace(const std::optional<Vec3>& rate_cam, CameraF
   predictor_.addLostInSpaceFix(fix);
 }
 
+Vec3 StarTracker::referenceDirection(uint32_t star_index) const {
+  const Vec3& u = db_.stars()[star_index].u_i;
+  return velocity_ ? applyAberration(u, *velocity_) : u;
+}
+
 void StarTracker::setAttitude(FrameResult& out, const CameraFix& fix) const {
   // q_ib = q_ic (x) q_cb; dtheta_body = R_bc dtheta_cam.
   out.q_ib = canonical(fix.q_ic * Quat(R_bc_.transpose()));
@@ -126,6 +132,9 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
   const auto t0 = Clock::now();
   FrameResult out;
   if (in.force_lost_in_space) reset();
+  velocity_.reset();
+  if (in.observer_velocity_km_s && in.observer_velocity_km_s->allFinite())
+    velocity_ = in.observer_velocity_km_s;
   // The measured body rate in the camera frame: the external prediction's, else the gyro's.
   const Mat3 R_cb = R_bc_.transpose();
   std::optional<Vec3> rate_cam;
@@ -250,20 +259,33 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
                  describeDiscrepancy(*found.camera_fit, online_.fileCamera(), "the camera file");
   }
   camera_verified_ = true;
-  const Mat3 R_ci = res.q_ic.toRotationMatrix().transpose();
+  // Identified and verified against the database's directions: turned onto the apparent ones
+  // of this observer (observer_aberration.hpp).
+  Quat q_ic = res.q_ic;
+  if (velocity_) {
+    std::vector<Vec3> u;
+    std::vector<double> w;
+    for (const StarMatch& m : res.matches) {
+      u.push_back(db_.stars()[m.star_index].u_i);
+      w.push_back(1.0 / (obs[m.obs_index].sigma * obs[m.obs_index].sigma));
+    }
+    q_ic = correctForAberration(q_ic, u, w, *velocity_);
+  }
+  const Mat3 R_ci = q_ic.toRotationMatrix().transpose();
   FrameStars learnt;
   for (const StarMatch& m : res.matches) {
     const StarObservation& o = obs[m.obs_index];
+    const Vec3 r_i = referenceDirection(m.star_index);
     MatchedStar s;
     s.catalog_id = m.catalog_id;
     s.px = o.px;
     s.v_cam = o.v_cam;
-    s.residual = angleBetween(o.v_cam, R_ci * db_.stars()[m.star_index].u_i);
+    s.residual = angleBetween(o.v_cam, R_ci * r_i);
     out.stars.push_back(s);
-    learnt.add(o.px, db_.stars()[m.star_index].u_i, centroidSigmaPx(det.stars[m.obs_index]));
+    learnt.add(o.px, r_i, centroidSigmaPx(det.stars[m.obs_index]));
   }
-  if (!found.healed) learnCamera(res.q_ic, std::move(learnt), out);
-  fix.q_ic = canonical(res.q_ic);
+  if (!found.healed) learnCamera(q_ic, std::move(learnt), out);
+  fix.q_ic = canonical(q_ic);
   fix.cov_cam = res.cov_cam;
   return true;
 }
@@ -308,7 +330,7 @@ std::optional<StarTracker::Failure> StarTracker::solveTracked(const CameraPredic
   pix_.resize(n);
   keep_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec3& r_i = db_.stars()[rid_.star_index[k]].u_i;
+    const Vec3 r_i = referenceDirection(rid_.star_index[k]);
     vobs_[k] = {sobs_[k].v_cam, r_i, sobs_[k].sigma};
     pix_[k] = {rid_.stars[k].px, rid_.stars[k].cov_px, r_i};
     keep_[k] = k;
@@ -371,7 +393,7 @@ std::optional<StarTracker::Failure> StarTracker::solveTracked(const CameraPredic
   if (opts_.online_camera.enabled) {
     FrameStars learnt;
     for (std::size_t k : keep_)
-      learnt.add(rid_.stars[k].px, db_.stars()[rid_.star_index[k]].u_i,
+      learnt.add(rid_.stars[k].px, referenceDirection(rid_.star_index[k]),
                  std::hypot(centroidSigmaPx(rid_.stars[k]), opts_.tracking_min_sigma_px));
     learnCamera(ref.q_ic, std::move(learnt), out);
   }

@@ -36,6 +36,11 @@
 /// to every centroid's sigma in the gates and the fixes' covariances. camera() is the model
 /// in force; the sensor records it with every frame.
 ///
+/// Observer velocity (FrameInputs::observer_velocity_km_s, observer_aberration.hpp): the fix is
+/// against the stars' apparent directions for that observer. Windows and gates use the
+/// database's directions (5" is a twentieth of a pixel of a 15 deg lens next to gates of
+/// several pixels).
+///
 /// Frames: identification, windows and fixes work in the camera frame (q_ic, cov_cam);
 /// FrameInputs and FrameResult are in the body frame of TrackerOptions::R_body_cam.
 /// Time: seconds on the caller's monotonic scale; only differences are used.
@@ -104,6 +109,9 @@ class StarTracker {
   void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                         std::vector<Centroid>& stars);
   void setAttitude(FrameResult& out, const CameraFix& fix) const;
+  /// A database star's direction as this frame's observer sees it (FrameInputs::
+  /// observer_velocity_km_s; the database's own without one).
+  Vec3 referenceDirection(uint32_t star_index) const;
   /// A lost-in-space fix becomes the frame's answer and the predictor's new start.
   void acceptLostInSpace(const std::optional<Vec3>& rate_cam, CameraFix& fix, FrameResult& out);
   /// A verified frame's stars into the online camera fit; adopts its result.
@@ -130,6 +138,7 @@ class StarTracker {
   // The last solved frame's stars: the partner of the next fix's rate (frame_rate.hpp). Kept
   // through reset(): its identities were verified, whatever the mode of the next fix.
   std::optional<RateFrame> rate_prev_;
+  std::optional<Vec3> velocity_;  // this frame's observer velocity [km/s] (aberration)
 
   // Scratch buffers kept between frames.
   RecursiveIdResult rid_;
