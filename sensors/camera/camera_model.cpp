@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <sstream>
 #include <vector>
@@ -161,8 +162,26 @@ Distortion distortionFromVector(const std::vector<double>& d, const std::string&
 }
 }  // namespace
 
+/// OpenCV's YAML/XML reader is for text: a NUL byte inside sends OpenCV 4.6's YAML parser into
+/// an endless loop (found by fuzzing: tests/fuzz/regressions/camera/). Its gzip form (*.gz) is
+/// OpenCV's to check. Camera files are a few KB; 1 MB is no camera file.
+void requireTextFile(const std::string& path) {
+  if (path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0) return;
+  constexpr std::uintmax_t kMaxBytes = 1 << 20;
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size > kMaxBytes)
+    throw InputError(path + ": " + std::to_string(size) + " bytes is too large for a camera file (at most 1 MB)");
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (const auto at = text.find('\0'); at != std::string::npos)
+    throw InputError(path + ": a NUL byte at offset " + std::to_string(at) +
+                     ": not a text (YAML/XML) camera file");
+}
+
 CameraModel CameraModel::loadYaml(const std::string& path) {
   requireFile(path);
+  requireTextFile(path);
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ);
