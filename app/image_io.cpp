@@ -107,8 +107,12 @@ std::optional<std::pair<std::int64_t, std::int64_t>> headerSize(const std::strin
     const bool le = b[0] == 'I';
     if (at(2, 2, le) != 42) return std::nullopt;  // BigTIFF or not a TIFF: OpenCV decides
     const std::int64_t ifd = at(4, 4, le), entries = at(ifd, 2, le);
+    // Entries the file can hold: a damaged count must not cost 3 x 4096 failed seeks.
+    f.clear();
+    f.seekg(0, std::ios::end);
+    const std::int64_t fits = (std::int64_t(f.tellg()) - ifd - 2) / 12;
     std::int64_t w = -1, h = -1;
-    for (std::int64_t e = 0; e < entries && e < 4096; ++e) {
+    for (std::int64_t e = 0; e < std::min(entries, fits) && e < 4096; ++e) {
       const std::int64_t base = ifd + 2 + 12 * e;
       const std::int64_t tag = at(base, 2, le), type = at(base + 2, 2, le);
       if (tag != 256 && tag != 257) continue;
