@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "app/command.hpp"
-#include "app/live/integrity_summary.hpp"
+#include "app/live/step_report.hpp"
 #include "app/live/replay_config.hpp"
 #include "app/output_file.hpp"
 #include "app/plot.hpp"
@@ -160,9 +160,7 @@ void prepareOutputs(const ReplayOpts& o) {
 
 /// MRPT reads external images from `<stem>_Images` beside the rawlog; a missing folder would
 /// otherwise show as one loader error per frame and no frame processed.
-void checkImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs, const ReplayOpts& o,
-                 const std::string& camera_label) {
-  const ExternalImages im = checkExternalImages(obs, camera_label);
+void checkImages(const ExternalImages& im, const ReplayOpts& o, const std::string& camera_label) {
   if (im.missing == 0) return;
   const std::string dir = fs::absolute(rawlogImagesDir(o.rawlog)).string();
   const std::string where = "external images are read from " + dir +
@@ -199,35 +197,41 @@ int runReplay(const ReplayOpts& o) {
   }
   prepareOutputs(o);
 
-  // All observations first (external images stay on disk until a frame needs them). A rawlog
-  // cut or damaged part way (a recording interrupted by a crash or power loss) replays the
-  // intact observations before the damage, as MRPT's own tools read it, and says once where
-  // it stopped; --strict makes that an error. A file with no readable object stays one.
+  // Two passes, nothing held: a scan (what the run needs to know before its first step), then
+  // the replay itself, each streaming the file (an hour at 10 Hz is 468,000 observations: held,
+  // 1.7 GB). External images stay on disk until a frame needs them. A rawlog cut or damaged
+  // part way (a recording interrupted by a crash or power loss) replays the intact
+  // observations before the damage, as MRPT's own tools read it, and says once where it
+  // stopped; --strict makes that an error. A file with no readable object stays one.
   RawlogDamage damage;
-  const std::vector<mrpt::obs::CObservation::Ptr> obs = readRawlogUpToDamage(o.rawlog, &damage);
+  std::optional<CameraModel> camera = cfg.camera;
+  std::optional<mrpt::Clock::time_point> t_first;
+  bool has_gyro = false;
+  ExternalImages images;
+  const std::size_t n_obs = visitRawlogUpToDamage(
+      o.rawlog,
+      [&](const mrpt::obs::CObservation::Ptr& ob) {
+        if (!t_first) t_first = ob->timestamp;
+        has_gyro = has_gyro || isGyroObservation(*ob, cfg.nav);
+        images.add(*ob, cfg.nav.camera_label);
+        if (camera || ob->sensorLabel != cfg.nav.camera_label) return;
+        if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(ob))
+          camera = CameraModel::fromTCamera(img->cameraParams);
+      },
+      &damage);
   if (damage.damaged) {
     if (o.strict) throw InputError(damage.message + " (--strict)");
     log::warn("%s; replaying those (--strict makes this an error)", damage.message.c_str());
   }
-  if (obs.empty()) throw InputError(o.rawlog + ": no observations");
-  std::optional<CameraModel> camera = cfg.camera;
-  for (const auto& ob : obs) {
-    if (camera) break;
-    if (ob->sensorLabel != cfg.nav.camera_label) continue;
-    if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(ob))
-      camera = CameraModel::fromTCamera(img->cameraParams);
-  }
+  if (n_obs == 0) throw InputError(o.rawlog + ": no observations");
   if (!camera) {
     throw InputError(o.rawlog + ": no " + cfg.nav.camera_label +
                      " (CObservationImage) observation: nothing to replay");
   }
-  checkImages(obs, o, cfg.nav.camera_label);
+  checkImages(images, o, cfg.nav.camera_label);
   // Without a gyro nothing carries the attitude from one frame to the next: a filter fed fixes
   // alone lags a moving body until its gate refuses every fix (issue 21: 1.7 deg off on the
   // tour's slew). Unless the ini asks for the gyroless filter, each frame is solved on its own.
-  const bool has_gyro = std::any_of(obs.begin(), obs.end(), [&](const auto& ob) {
-    return isGyroObservation(*ob, cfg.nav);
-  });
   if (!has_gyro && cfg.nav.fusion.filter.model == MekfOptions::Model::kGyroless) {
     log::info("no %s observations: gyroless filter ([filter] model = gyroless): the body rate "
               "is estimated from the fixes",
@@ -241,7 +245,7 @@ int runReplay(const ReplayOpts& o) {
         cfg.nav.gyro_label.c_str());
     cfg.nav.fusion.filter_enabled = false;
   }
-  const double epoch = julianYear(obs.front()->timestamp);
+  const double epoch = julianYear(*t_first);
   const auto t_db = std::chrono::steady_clock::now();
   const StarDatabase db = makeDatabase(cfg.database, *camera, epoch);
   const double db_s =
@@ -254,26 +258,45 @@ int runReplay(const ReplayOpts& o) {
   }
   std::size_t star_tracker_written = 0;
   Navigator nav(db, *camera, cfg.nav);
-  nav.setStepCallback([&](const NavStep&, const CObservationStarTracker::Ptr& st) {
+  // Steps are reported as they finish and kept only for plots (live's StepReport).
+  StepReport report(o.csv, !o.plots.empty());
+  nav.setKeepSteps(false);
+  int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
+  double frame_time = 0;
+  nav.setStepCallback([&](const NavStep& s, const CObservationStarTracker::Ptr& st) {
     if (writer && st) {
       writer->write(*st);
       ++star_tracker_written;
     }
+    report.push(s);
+    if (!s.has_frame) return;
+    ++frames;
+    frame_time += s.frame_time_s;
+    if (s.fix) ++solved;
+    if (s.mode == StarTrackerMode::kLostInSpace) ++lis;
+    if (s.mode == StarTrackerMode::kTracking) ++tracking;
+    if (s.use == FixUse::kRejected) ++rejected;
   });
 
-  ProgressBar bar("replay", obs.size(), true);  // silent under -q (common/progress)
+  ProgressBar bar("replay", n_obs, true);  // silent under -q (common/progress)
   const auto wall0 = std::chrono::steady_clock::now();
-  for (std::size_t i = 0; i < obs.size(); ++i) {
+  // The scan's observations again: exactly those (the damage, if any, comes after them).
+  RawlogReader reader(o.rawlog);
+  for (std::size_t i = 0; i < n_obs; ++i) {
+    const mrpt::obs::CObservation::Ptr ob = reader.next();
+    if (!ob) throw InputError(o.rawlog + ": changed while replayed (object " + std::to_string(i) +
+                              " is gone)");
     if (o.realtime) {
-      const double dt = mrpt::system::timeDifference(obs.front()->timestamp, obs[i]->timestamp);
+      const double dt = mrpt::system::timeDifference(*t_first, ob->timestamp);
       std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                 std::chrono::duration<double>(std::max(0.0, dt))));
     }
-    if (writer) writer->write(*obs[i]);
-    nav.push(obs[i]);
+    if (writer) writer->write(*ob);
+    nav.push(ob);
     bar.update(i + 1);
   }
   nav.flush();
+  report.flush();
   bar.finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
@@ -284,23 +307,9 @@ int runReplay(const ReplayOpts& o) {
     log::info("... %d warnings in all", nav.warningCount());
 
   // ---- summary ----
-  std::vector<NavStep> steps = nav.steps();
-  fillTruthRates(steps);
-  int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
-  double frame_time = 0;
-  for (const NavStep& s : steps) {
-    if (s.has_frame) {
-      ++frames;
-      frame_time += s.frame_time_s;
-      if (s.fix) ++solved;
-      if (s.mode == StarTrackerMode::kLostInSpace) ++lis;
-      if (s.mode == StarTrackerMode::kTracking) ++tracking;
-      if (s.use == FixUse::kRejected) ++rejected;
-    }
-  }
   const std::string upto =
       damage.damaged ? " (up to the damage at object " + std::to_string(damage.object) + ")" : "";
-  std::printf("%s: %zu observations%s, camera %s\n", o.rawlog.c_str(), obs.size(), upto.c_str(),
+  std::printf("%s: %zu observations%s, camera %s\n", o.rawlog.c_str(), n_obs, upto.c_str(),
               camera->describe().c_str());
   std::printf("database: %zu stars (%s, %.1f s)\n", db.stars().size(),
               cfg.database.path.empty() ? "built in memory" : cfg.database.path.c_str(), db_s);
@@ -310,12 +319,10 @@ int runReplay(const ReplayOpts& o) {
               frames, solved * pct, lis, tracking * pct, rejected, nav.reinitializations());
   std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
               frames ? 1e3 * frame_time / frames : 0.0, frames / std::max(wall_s, 1e-9));
-  printNavigationSummary(steps, stdout);
-  printRateSummary(steps, stdout);
-  printIntegritySummary(steps, stdout);
+  report.print(stdout);
 
   if (!o.csv.empty()) {
-    const int rows = writeNavStepCsv(steps, o.csv);
+    const int rows = report.finishCsv();
     std::printf("csv: %s (%d rows)\n", o.csv.c_str(), rows);
   }
   if (writer) {
@@ -323,7 +330,7 @@ int runReplay(const ReplayOpts& o) {
                 writer->count(), star_tracker_written);
   }
   if (!o.plots.empty()) {
-    const std::string drawn = plots(steps, o.plots);
+    const std::string drawn = plots(report.steps(), o.plots);
     std::printf("plots: %s/{%s}.png\n", o.plots.c_str(), drawn.c_str());
   }
   return solved > 0 ? kExitOk : kExitFailure;

@@ -44,15 +44,6 @@ void setTruthRate(const NavStep& a, NavStep& s, const NavStep& b, double max_gap
 
 }  // namespace
 
-void fillTruthRates(std::vector<NavStep>& steps, double max_gap_s) {
-  std::vector<std::size_t> with_truth;
-  for (std::size_t i = 0; i < steps.size(); ++i)
-    if (steps[i].has_truth) with_truth.push_back(i);
-  for (std::size_t k = 1; k + 1 < with_truth.size(); ++k)
-    setTruthRate(steps[with_truth[k - 1]], steps[with_truth[k]], steps[with_truth[k + 1]],
-                 max_gap_s);
-}
-
 void TruthRateStream::push(NavStep s, const Sink& out) {
   if (!s.has_truth) {
     if (held_.empty()) {
@@ -167,12 +158,6 @@ int NavStepCsvWriter::finish() {
   f_.flush();
   if (!f_) throw InputError(path_ + ": write failed");
   return rows_;
-}
-
-int writeNavStepCsv(const std::vector<NavStep>& steps, const std::string& path) {
-  NavStepCsvWriter w(path);
-  for (const NavStep& s : steps) w.write(s);
-  return w.finish();
 }
 
 }  // namespace st

@@ -69,7 +69,7 @@ struct NavStep {
   /// alone, e.g. from a simulated gyro beside a folder of frames, cannot score them).
   bool ids_scored = false;
   /// The true body rate at t: central difference of the neighbouring GROUND_TRUTH attitudes
-  /// (fillTruthRates), and the filter's error against it (initialized && has_true_rate).
+  /// (TruthRateStream), and the filter's error against it (initialized && has_true_rate).
   bool has_true_rate = false;
   Vec3 rate_true = Vec3::Zero();
   Vec3 rate_error = Vec3::Zero();      ///< filter rate - truth [rad/s]
@@ -77,12 +77,10 @@ struct NavStep {
   Mat3 P_rate = Mat3::Zero();
 };
 
-/// The true rate at every step with truth whose neighbours (previous and next step with
-/// truth, within max_gap_s) have truth too: Log(q_prev^-1 q_next) / (t_next - t_prev), the
-/// mean rate over the two intervals (exact at t for a rate constant or changing linearly).
-void fillTruthRates(std::vector<NavStep>& steps, double max_gap_s = 1.0);
-
-/// fillTruthRates as the steps come (live): a step with truth is held until the next step
+/// The true rate of the steps as they come (replay and live): at every step with truth whose
+/// neighbours (previous and next step with truth, within max_gap_s) have truth too,
+/// Log(q_prev^-1 q_next) / (t_next - t_prev), the mean rate over the two intervals (exact at
+/// t for a rate constant or changing linearly). A step with truth is held until the next step
 /// with truth gives its true rate, the steps after it with it; each step goes to the sink
 /// once final, in order. At most one truth interval is held.
 class TruthRateStream {
@@ -122,8 +120,5 @@ class NavStepCsvWriter {
   std::ofstream f_;
   int rows_ = 0;
 };
-/// Writes the header and one row per step with a frame; returns the rows written. Throws
-/// InputError naming the file when it cannot be written.
-int writeNavStepCsv(const std::vector<NavStep>& steps, const std::string& path);
 
 }  // namespace st

@@ -111,12 +111,6 @@ void RunSummary::print(std::FILE* out) const {
                  unscored_);
 }
 
-void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out) {
-  RunSummary r;
-  for (const NavStep& s : steps) r.add(s);
-  r.print(out);
-}
-
 void RunSummary::addRate(const NavStep& s) {
   if (!s.has_true_rate) return;
   if (s.has_fix_rate) rate_fix_err_.add((s.fix_rate - s.rate_true).norm() * kDegPerRad);
@@ -151,12 +145,6 @@ void RunSummary::printRates(std::FILE* out) const {
                  "the frame interval)\n", rate_fix_err_.rms(),
                  static_cast<unsigned long long>(rate_fix_err_.n()));
   }
-}
-
-void printRateSummary(const std::vector<NavStep>& steps, std::FILE* out) {
-  RunSummary r;
-  for (const NavStep& s : steps) r.add(s);
-  r.printRates(out);
 }
 
 }  // namespace st

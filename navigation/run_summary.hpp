@@ -20,7 +20,7 @@ class RunSummary {
  public:
   void add(const NavStep& s);
   void print(std::FILE* out) const;
-  /// The body-rate lines (steps with a true rate: TruthRateStream or fillTruthRates first):
+  /// The body-rate lines (steps with a true rate: through TruthRateStream first):
   /// the filter's rate error per axis and total, the rate NEES of a gyroless filter, and the
   /// tracker's own frame-to-frame rates. Prints nothing without true rates.
   void printRates(std::FILE* out) const;
@@ -51,10 +51,5 @@ class RunSummary {
   bool gyroless_ = false;
   Series rate_x_, rate_y_, rate_z_, rate_total_, rate_nees_, rate_fix_err_;  // [deg/s], NEES
 };
-
-/// The summary of a whole run's steps (replay).
-void printNavigationSummary(const std::vector<NavStep>& steps, std::FILE* out);
-/// RunSummary::printRates of a whole run's steps (replay; fillTruthRates first).
-void printRateSummary(const std::vector<NavStep>& steps, std::FILE* out);
 
 }  // namespace st

@@ -12,6 +12,9 @@ const SectionSchema<FilterIniKeys>& filterIniSchema() {
   using F = FilterIniKeys;
   static const auto s =
       SectionSchema<F>()
+          .add("enabled", &F::enabled,
+               "false: no filter; every frame is solved lost-in-space (with the gyro's rate for "
+               "its streaks) and its fix is the output, unfiltered: acquisition on its own")
           .add("arw_deg_rt_h", &F::arw_deg_rt_h, "[deg/sqrt(h)] gyro angle random walk")
           .add("rrw_deg_h_rt_h", &F::rrw_deg_h_rt_h, "[deg/h/sqrt(h)] gyro rate random walk")
           .add("bias_sigma_deg_h", &F::bias_sigma_deg_h, "[deg/h] prior 1-sigma of the gyro bias")
@@ -134,6 +137,7 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
                      NavigatorOptions& n) {
   FusionOptions& f = n.fusion;
   f.filter = MekfOptions::fromDatasheet(fk.arw_deg_rt_h, fk.rrw_deg_h_rt_h, fk.bias_sigma_deg_h);
+  f.filter_enabled = fk.enabled;
   f.filter.gate_enabled = fk.gate;
   f.filter.gate_probability = fk.gate_probability;
   f.filter.max_star_vectors = fk.max_star_vectors;

@@ -21,6 +21,7 @@ namespace st {
 
 /// [filter]: the datasheet numbers of the gyro; defaults = FusionOptions' default filter.
 struct FilterIniKeys {
+  bool enabled = true;  ///< false: no filter, every frame lost-in-space (FusionOptions::filter_enabled)
   double arw_deg_rt_h = 0.15;
   double rrw_deg_h_rt_h = 0.5;
   double bias_sigma_deg_h = 10.0;

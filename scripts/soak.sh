@@ -3,14 +3,16 @@
 #  (a) `startracker live` on the simulated sensors of rawlogs/live_sim.ini in real time for
 #      --live-seconds (default 3600);
 #  (b) replay of the 36,000-frame one-hour rawlog (README "One hour of tracking at 10 Hz"),
-#      simulated first into OUT when missing (~0.5 GB of PNGs).
+#      simulated first into OUT when missing (~0.5 GB of PNGs, an hour of one core), or of
+#      --replay-rawlog FILE (e.g. (a)'s recording: live_soak.rawlog, 36,000 frames, with its
+#      live_soak_tracker.ini; --replay-config INI, default <stem>_tracker.ini beside it).
 # Each run's resident memory (VmRSS of /proc/PID/status) is sampled every second into
 # OUT/<run>_rss.tsv and drawn to OUT/<run>_rss.png (gnuplot); OUT/soak_summary.txt holds RSS
 # after warm-up vs at the end and the observation counts (live: delivered by the sensors vs
 # recorded; replay: frames read vs frames in the summary).
 #
 # usage: scripts/soak.sh [--live-seconds N] [--skip-live] [--skip-replay] [--out DIR]
-#                        [--build DIR]
+#                        [--build DIR] [--replay-rawlog FILE [--replay-config INI]]
 # Long: run it with nice -n 10 in the background. Not part of ctest.
 set -euo pipefail
 
@@ -20,6 +22,8 @@ out="$repo/out/soak"
 build="$repo/build"
 do_live=1
 do_replay=1
+replay_rawlog=""
+replay_config=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --live-seconds) live_s=$2; shift 2 ;;
@@ -27,7 +31,9 @@ while [[ $# -gt 0 ]]; do
     --skip-replay) do_replay=0; shift ;;
     --out) out=$2; shift 2 ;;
     --build) build=$2; shift 2 ;;
-    -h|--help) sed -n 2,15p "$0"; exit 0 ;;
+    --replay-rawlog) replay_rawlog=$2; shift 2 ;;
+    --replay-config) replay_config=$2; shift 2 ;;
+    -h|--help) sed -n 2,17p "$0"; exit 0 ;;
     *) echo "soak.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -120,17 +126,22 @@ fi
 
 if [[ $do_replay == 1 ]]; then
   rl="$out/one_hour.rawlog"
-  if [[ ! -f "$rl" ]]; then
+  config="$repo/rawlogs/one_hour_tracker.ini"
+  if [[ -n "$replay_rawlog" ]]; then
+    rl=$replay_rawlog
+    config=${replay_config:-${rl%.rawlog}_tracker.ini}
+    [[ -f "$rl" ]] || { echo "soak.sh: --replay-rawlog '$rl': no such file" >&2; exit 2; }
+    [[ -f "$config" ]] || { echo "soak.sh: replay config '$config': no such file (--replay-config)" >&2; exit 2; }
+  elif [[ ! -f "$rl" ]]; then
     echo "soak: simulating $rl (36,000 frames)" | tee -a "$summary"
     "$st" simulate "$repo/rawlogs/one_hour_10hz.ini" -o "$rl" --force >"$out/simulate.log" 2>&1
   fi
   echo "soak: replay of $rl -> $out/replay.log" | tee -a "$summary"
   rc=0
-  run_sampled replay "$st" replay "$rl" --config "$repo/rawlogs/one_hour_tracker.ini" \
-    --csv "$out/one_hour.csv" || rc=$?
+  run_sampled replay "$st" replay "$rl" --config "$config" --csv "$out/replay.csv" || rc=$?
   echo "replay: exit $rc" | tee -a "$summary"
   grep -E 'frames|observations|solved' "$out/replay.log" | head -8 | tee -a "$summary" || true
   rss_summary replay
-  plot_rss replay "startracker replay, 36,000 frames (one hour at 10 Hz)"
+  plot_rss replay "startracker replay of $(basename "$rl")"
 fi
 echo "soak: summary in $summary; curves $out/*_rss.png"

@@ -71,16 +71,6 @@ void IntegrityAccumulator::add(const NavStep& st) {
   }
 }
 
-IntegrityStats integrityStats(const std::vector<NavStep>& steps) {
-  IntegrityAccumulator a;
-  for (const NavStep& st : steps) a.add(st);
-  return a.stats();
-}
-
-void printIntegritySummary(const std::vector<NavStep>& steps, std::FILE* out) {
-  printIntegritySummary(integrityStats(steps), out);
-}
-
 void printIntegritySummary(const IntegrityStats& s, std::FILE* out) {
   if (s.fixes == 0 && s.filter_steps == 0) return;
   std::fprintf(out,

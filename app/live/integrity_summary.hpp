@@ -48,9 +48,7 @@ class IntegrityAccumulator {
   double last_used_ = -1, last_estimate_ = -1;
 };
 
-IntegrityStats integrityStats(const std::vector<NavStep>& steps);
 /// "integrity: ..." lines (tests and scripts parse them).
 void printIntegritySummary(const IntegrityStats& s, std::FILE* out);
-void printIntegritySummary(const std::vector<NavStep>& steps, std::FILE* out);
 
 }  // namespace st::app

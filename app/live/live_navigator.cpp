@@ -9,13 +9,13 @@ namespace st::app {
 
 LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
                              NavigatorOptions options, const std::string& csv_path)
-    : nav_(db, camera, std::move(options), Navigator::Source::kStarTrackerFixes) {
-  if (!csv_path.empty()) csv_ = std::make_unique<NavStepCsvWriter>(csv_path);
+    : nav_(db, camera, std::move(options), Navigator::Source::kStarTrackerFixes),
+      report_(csv_path) {
   // Each step is summarised and written as it finishes, then dropped: the navigator keeps
   // none (a one-hour run kept ~1 KB per frame of them, the memory growth of the soak).
   nav_.setKeepSteps(false);
   nav_.setStepCallback([this](const NavStep& s, const CObservationStarTracker::Ptr&) {
-    truth_rates_.push(s, [this](const NavStep& f) { summarise(f); });
+    report_.push(s);
     if (!s.has_frame || !s.fix) return;
     ++stats_.fixes;
     stats_.accepted += s.use == FixUse::kAccepted;
@@ -71,7 +71,7 @@ void LiveNavigator::flush() {
   std::lock_guard<std::mutex> lock(m_);
   if (!started_) start(std::nullopt);
   nav_.flush();
-  truth_rates_.flush([this](const NavStep& f) { summarise(f); });
+  report_.flush();
 }
 
 bool LiveNavigator::earlierEventsIn(mrpt::Clock::time_point t) const {
@@ -123,22 +123,14 @@ LiveNavigator::Stats LiveNavigator::stats() const {
   return s;
 }
 
-void LiveNavigator::summarise(const NavStep& s) {
-  summary_.add(s);
-  integrity_.add(s);
-  if (csv_) csv_->write(s);
-}
-
 void LiveNavigator::printSummaries(std::FILE* out) const {
   std::lock_guard<std::mutex> lock(m_);
-  summary_.print(out);
-  summary_.printRates(out);
-  printIntegritySummary(integrity_.stats(), out);
+  report_.print(out);
 }
 
 int LiveNavigator::finishCsv() {
   std::lock_guard<std::mutex> lock(m_);
-  return csv_ ? csv_->finish() : -1;
+  return report_.finishCsv();
 }
 
 std::vector<std::string> LiveNavigator::warnings() const {

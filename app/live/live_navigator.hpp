@@ -26,7 +26,7 @@
 #include <optional>
 #include <vector>
 
-#include "app/live/integrity_summary.hpp"
+#include "app/live/step_report.hpp"
 #include "navigation/navigator.hpp"
 #include "navigation/run_summary.hpp"
 
@@ -70,12 +70,7 @@ class LiveNavigator {
   std::condition_variable arrived_;
   Navigator nav_;
   Stats stats_;
-  void summarise(const NavStep& s);  // a final step: the summaries and the CSV
-
-  TruthRateStream truth_rates_;  // holds a step until its true rate is known
-  RunSummary summary_;
-  IntegrityAccumulator integrity_;
-  std::unique_ptr<NavStepCsvWriter> csv_;
+  StepReport report_;  // summaries and CSV, made as the steps finish
   std::optional<mrpt::Clock::time_point> newest_gyro_, newest_fix_, last_asked_;
   bool gyro_stalled_ = false, stopping_ = false;
   bool started_ = false;

@@ -193,11 +193,23 @@ std::vector<mrpt::obs::CObservation::Ptr> readRawlog(const std::string& path) {
 
 std::vector<mrpt::obs::CObservation::Ptr> readRawlogUpToDamage(const std::string& path,
                                                                RawlogDamage* damage) {
-  RawlogReader reader(path);
   std::vector<mrpt::obs::CObservation::Ptr> out;
+  visitRawlogUpToDamage(path, [&out](const mrpt::obs::CObservation::Ptr& o) { out.push_back(o); },
+                        damage);
+  return out;
+}
+
+std::size_t visitRawlogUpToDamage(
+    const std::string& path, const std::function<void(const mrpt::obs::CObservation::Ptr&)>& visit,
+    RawlogDamage* damage) {
+  RawlogReader reader(path);
+  std::size_t n = 0;
   RawlogDamage d;
   try {
-    while (auto obs = reader.next()) out.push_back(std::move(obs));
+    while (auto obs = reader.next()) {
+      visit(obs);
+      ++n;
+    }
   } catch (const RawlogDamageError& e) {
     if (e.object == 0) throw;  // nothing readable: not a rawlog (or cut inside object 0)
     d.damaged = true;
@@ -210,23 +222,19 @@ std::vector<mrpt::obs::CObservation::Ptr> readRawlogUpToDamage(const std::string
                 std::to_string(e.object) + " observations before it are intact";
   }
   if (damage) *damage = d;
-  return out;
+  return n;
 }
 
-ExternalImages checkExternalImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs,
-                                   const std::string& sensor_label) {
-  ExternalImages r;
-  for (const auto& o : obs) {
-    if (o->sensorLabel != sensor_label) continue;
-    const auto* io = dynamic_cast<const mrpt::obs::CObservationImage*>(o.get());
-    if (!io || !io->image.isExternallyStored()) continue;
-    ++r.external;
-    const std::string file = io->image.getExternalStorageFileAbsolutePath();
-    std::error_code ec;
-    if (fs::is_regular_file(file, ec)) continue;
-    if (r.missing++ == 0) r.first_missing = file;
-  }
-  return r;
+void ExternalImages::add(const mrpt::obs::CObservation& o, const std::string& sensor_label) {
+  if (o.sensorLabel != sensor_label) return;
+  const auto* io = dynamic_cast<const mrpt::obs::CObservationImage*>(&o);
+  if (!io || !io->image.isExternallyStored()) return;
+  ++external;
+  const std::string file = io->image.getExternalStorageFileAbsolutePath();
+  std::error_code ec;
+  if (fs::is_regular_file(file, ec)) return;
+  if (missing++ == 0) first_missing = file;
 }
+
 
 }  // namespace st

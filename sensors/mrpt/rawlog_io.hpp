@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -142,6 +143,12 @@ struct RawlogDamage {
 /// InputError, as readRawlog().
 std::vector<mrpt::obs::CObservation::Ptr> readRawlogUpToDamage(const std::string& path,
                                                                RawlogDamage* damage);
+/// The same reading, streamed: `visit` sees each intact observation in turn and none is
+/// kept (an hour of 10 Hz frames and 100 Hz gyro is 468,000 observations, 1.7 GB held).
+/// Returns the number visited; `damage` as above; the same errors.
+std::size_t visitRawlogUpToDamage(const std::string& path,
+                                  const std::function<void(const mrpt::obs::CObservation::Ptr&)>& visit,
+                                  RawlogDamage* damage);
 
 /// The external images (CObservationImage) of observations labelled `sensor_label`, looked up
 /// where MRPT will load them (CImage::getImagesPathBase(), which RawlogReader sets to the
@@ -150,8 +157,8 @@ struct ExternalImages {
   std::size_t external = 0;   ///< images stored outside the rawlog
   std::size_t missing = 0;    ///< of those, files not found
   std::string first_missing;  ///< path of the first missing file
+  /// Counts `o` when it is a CObservationImage labelled `sensor_label`.
+  void add(const mrpt::obs::CObservation& o, const std::string& sensor_label);
 };
-ExternalImages checkExternalImages(const std::vector<mrpt::obs::CObservation::Ptr>& obs,
-                                   const std::string& sensor_label);
 
 }  // namespace st
