@@ -8,8 +8,9 @@
 #                     ([filter] enabled = false): acquisition with a gyro
 #   lis               every frame lost-in-space, no rate (the GYRO label ignored): blind
 #                     acquisition, streaks from their shapes
-#   gyroless          the gyroless filter (rawlogs/gyroless_tracker.ini): lost-in-space, then
-#                     the rate from the fixes
+#   gyroless          the gyroless filter (rawlogs/gyroless_tracker.ini, its rate prior
+#                     rate_sigma_deg_s set to the slew rate): lost-in-space, then the rate
+#                     from the fixes
 # The tracker's exposure_s is the scenario's. Prints a Markdown table (solved %, tracking %,
 # misidentified stars, wrong valid outputs, cross-boresight error RMS) and writes it to
 # OUT/fast_slews.md.
@@ -73,7 +74,8 @@ for rate in $rates; do
                       "$repo/rawlogs/tracker.ini" >"$cfg" ;;
         lis) { sed "s/^exposure_s .*/exposure_s     = $exp/" "$repo/rawlogs/tracker.ini"
                printf '\n[navigator]\ngyro_label = NO_GYRO\n'; } >"$cfg" ;;
-        gyroless) sed "s/^exposure_s .*/exposure_s     = $exp/" "$repo/rawlogs/gyroless_tracker.ini" >"$cfg" ;;
+        gyroless) sed -e "s/^exposure_s .*/exposure_s     = $exp/" -e "s/^rate_sigma_deg_s = .*/rate_sigma_deg_s = $rate/" \
+                      "$repo/rawlogs/gyroless_tracker.ini" >"$cfg" ;;
       esac
       log="$out/${name}_$mode.log"
       "$st" replay -q "$out/$name.rawlog" --config "$cfg" >"$log" 2>&1 || true
