@@ -217,6 +217,27 @@ TEST(ReplayWithoutGyro, CameraOnlyRawlogGivesRawLostInSpaceFixesAndOneWarning) {
   EXPECT_TRUE(fs::exists(dir + "/plots/error.png") || out.find("not drawn") != std::string::npos);
 }
 
+// [filter] enabled = false with a gyro: every frame lost-in-space (acquisition on its own, as
+// scripts/fast_slews.sh measures it), its fix unfiltered; the gyro still gives the streaks'
+// rate (the same frames solve as with the filter's first, lost-in-space, frame).
+TEST(ReplayFilterOff, EveryFrameIsLostInSpaceAndUnfilteredWithTheGyroPresent) {
+  const std::string dir = test::makeTempDir("replay_filter_off");
+  const std::string ini = dir + "/off.ini";
+  std::ofstream(ini) << "[filter]\nenabled = false\n";
+  std::string out;
+  ASSERT_EQ(test::runCommand(test::startrackerExe() + " replay -q " + sample("slew_2dps") +
+                                 " --config " + ini,
+                             &out),
+            0)
+      << out;
+  EXPECT_EQ(out.find("no GYRO observations"), std::string::npos) << out;
+  EXPECT_EQ(grab(out, R"(frames: (\d+))"), 12) << out;
+  EXPECT_EQ(grab(out, R"(lost-in-space (\d+))"), 12) << out;
+  EXPECT_GE(grab(out, R"(solved ([0-9.]+) %)"), 90.0) << out;
+  EXPECT_NE(out.find("raw fixes without a filter"), std::string::npos) << out;
+  EXPECT_EQ(out.find("filter: mean NEES"), std::string::npos) << out;
+}
+
 // A gyro that stops mid-run is coasted through, up to [navigator] max_gyro_coast_s (1 s; past
 // it the filter is suspended: Navigator.GyroStoppingOnATurningBodySuspendsTheFilterUntilItReturns):
 // the loop holds the mean of the last rates with a growing covariance and says so once. Here
