@@ -135,5 +135,18 @@ TEST(FuzzRegressions, CameraYamlWithANulByteIsRefusedBeforeOpenCvLoopsOnIt) {
   expectRefused(path, "a NUL byte at offset 34", [&] { CameraModel::loadYaml(path); });
 }
 
+// A YAML camera file with a single-'!' tag ("!pe-") on a line after an indented key: OpenCV
+// 4.6's YAML parser never returned (minimal form "%YAML:1.0\n s:6\n!pe-\n", checked outside the
+// fuzzer). Refused before OpenCV; OpenCV's own "!!opencv-matrix" tags still read (every camera
+// test file has them).
+TEST(FuzzRegressions, CameraYamlWithASingleBangTagIsRefusedBeforeOpenCvLoopsOnIt) {
+  const std::string bytes = readBytes(reproducer("camera", "yaml_single_bang_tag_endless_loop"));
+  const std::string path = writeFile("camera.yaml", bytes.substr(1));  // byte 0: the selector
+  expectRefused(path, "a YAML tag with a single '!'", [&] { CameraModel::loadYaml(path); });
+  const std::string minimal = writeFile("minimal.yaml", "%YAML:1.0\n s:6\n!pe-\n");
+  expectRefused(minimal, "a YAML tag with a single '!' at offset 15",
+                [&] { CameraModel::loadYaml(minimal); });
+}
+
 }  // namespace
 }  // namespace st
