@@ -13,6 +13,7 @@
 ///
 ///   st::api::Tracker t(st::CameraModel::fromFov(1024, 768, st::deg2rad(11.4)));
 ///   st::FrameInputs in;  in.rate_body = gyro_rate;        // optional
+///   in.observer_velocity_km_s = v_orbit;  // optional: corrects the orbit's aberration (5")
 ///   st::FrameResult fix = t.process(image, t_s, in);     // per frame, in time order
 ///
 /// The fusion loop (fusion/fusion_loop.hpp) takes the tracker as its frame processor:
@@ -21,6 +22,7 @@
 ///     return t.process(frames[tag], t, in); });
 ///   loop.setStepCallback([](const st::FusionStep& s) { use(s.filter.q_ib); });
 ///   loop.pushGyro(t_gyro, rate);  loop.pushFrame(t_frame, tag);  ...  loop.flush();
+///   loop.pushVelocity(t_v, v_orbit_km_s);  // optional: every frame then gets the newest
 ///
 /// Conventions (common/conventions.hpp): q_ib is Hamilton, scalar first, v_inertial =
 /// R(q_ib) v_body (ICRS); covariances are 3x3 of the body-frame rotation error in rad^2;
