@@ -258,52 +258,11 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     out.detail = "lost-in-space healed the camera: " +
                  describeDiscrepancy(*found.camera_fit, online_.fileCamera(), "the camera file");
   }
-  // The verified identification's attitude refined in pixel space with each centroid's full
-  // covariance, as a tracking frame's is (pixel_refinement.hpp), against the directions this
-  // observer sees (observer_aberration.hpp), and held to the same residual test: the worst
-  // star dropped while sum d^T C^-1 d exceeds its chi2(2n - 3) bound. The identifier weighs
-  // stars isotropically: a streak's along-track error is several times its cross-track one,
-  // and on a 4 deg/s slew lost-in-space fixes were 4.5-5 sigma off for seconds (a blended
-  // streak kept by the isotropic test) and reported as valid.
-  pix_.clear();
-  keep_.clear();
-  for (std::size_t k = 0; k < res.matches.size(); ++k) {
-    const StarMatch& m = res.matches[k];
-    pix_.push_back({det.stars[m.obs_index].px, det.stars[m.obs_index].cov_px,
-                    referenceDirection(m.star_index)});
-    keep_.push_back(k);
-  }
-  const double floor_refine = std::hypot(opts_.min_sigma_px, model_error_px_);
-  PixelRefinement ref = refineInPixels(camera_, pix_, res.q_ic, floor_refine, e2_);
+  camera_verified_ = true;
+  // Identified and verified against the database's directions: turned onto the apparent ones
+  // of this observer (observer_aberration.hpp).
   Quat q_ic = res.q_ic;
-  Mat3 cov_cam = res.cov_cam;
-  if (ref.ok) {
-    auto judge = [&]() -> DropWorstVerdict {
-      const int dof = 2 * static_cast<int>(pix_.size()) - 3;
-      const double bound = dof <= loss_threshold_.maxDof()
-                               ? loss_threshold_(dof)
-                               : chiSquareQuantile(1.0 - opts_.loss_probability, dof);
-      if (ref.chi2 <= bound) return {true, 0};
-      return {false, std::size_t(std::max_element(e2_.begin(), e2_.end()) - e2_.begin())};
-    };
-    auto drop_and_resolve = [&](std::size_t worst) {
-      pix_.erase(pix_.begin() + long(worst));
-      keep_.erase(keep_.begin() + long(worst));
-      ref = refineInPixels(camera_, pix_, ref.q_ic, floor_refine, e2_);
-      return ref.ok;
-    };
-    const std::size_t min_keep = static_cast<std::size_t>(std::max(3, opts_.min_tracked_stars));
-    const DropWorstOutcome outcome =
-        dropWorstWhileFailing(pix_.size(), min_keep, judge, drop_and_resolve);
-    if (outcome != DropWorstOutcome::kAccepted) {
-      out.failure = FrameFailure::kResiduals;
-      out.detail = "lost-in-space: residual chi2 " + std::to_string(ref.chi2) + " too large for " +
-                   std::to_string(pix_.size()) + " stars (full centroid covariances)";
-      return false;
-    }
-    q_ic = ref.q_ic;
-    cov_cam = ref.cov_cam;
-  } else if (velocity_) {
+  if (velocity_) {
     std::vector<Vec3> u;
     std::vector<double> w;
     for (const StarMatch& m : res.matches) {
@@ -312,11 +271,9 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     }
     q_ic = correctForAberration(q_ic, u, w, *velocity_);
   }
-  camera_verified_ = true;
   const Mat3 R_ci = q_ic.toRotationMatrix().transpose();
   FrameStars learnt;
-  for (std::size_t k : keep_) {
-    const StarMatch& m = res.matches[k];
+  for (const StarMatch& m : res.matches) {
     const StarObservation& o = obs[m.obs_index];
     const Vec3 r_i = referenceDirection(m.star_index);
     MatchedStar s;
@@ -329,7 +286,7 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
   }
   if (!found.healed) learnCamera(q_ic, std::move(learnt), out);
   fix.q_ic = canonical(q_ic);
-  fix.cov_cam = cov_cam;
+  fix.cov_cam = res.cov_cam;
   return true;
 }
 
