@@ -10,11 +10,15 @@ import subprocess
 import sys
 
 # One sample file per kind of .ini; `startracker config` prints every key of its schemas
-# with the default filled in.
+# with the default filled in. The third field, when set, keeps only those sections.
 SAMPLES = [
     ("Scenario (`startracker simulate`, the simulated sensors)", "rawlogs/tour_120s.ini", None),
     ("Tracker (`replay --config`)", "rawlogs/tracker.ini", None),
     ("Live application (`startracker live`, MRPT's `rawlog-grabber`)", "rawlogs/live_sim.ini", None),
+    # Only the section the first sample lacks ([scenario] orbit_section names it; absent: the
+    # observer's own velocity is not simulated).
+    ("Scenario with an orbit (`[scenario] orbit_section`, default `orbit`)", "rawlogs/orbit_leo.ini",
+     ("orbit",)),
 ]
 
 
@@ -52,13 +56,15 @@ def main():
            "(`startracker config FILE` prints the same for any file). Every .ini is read "
            "strictly: an unknown key or a bad value is an error naming the file, section "
            "and key. Units are in brackets at the start of each help text.", ""]
-    for title, path, _ in SAMPLES:
+    for title, path, only in SAMPLES:
         r = subprocess.run([a.binary, "config", path], capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"config_docs: `{a.binary} config {path}` failed:\n{r.stderr}")
         out += [f"## {title}", "", f"Sample: `{path}`.", ""]
         current = None
         for section, key, value, help_text in parse(r.stdout):
+            if only and section not in only:
+                continue
             if section != current:
                 out += ["", f"### [{section}]", "", "| key | value in the sample | meaning |", "|---|---|---|"]
                 current = section
