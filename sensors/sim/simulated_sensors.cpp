@@ -257,7 +257,7 @@ void CSimulatedGyro::doProcess() {
 
 void CSimulatedGyro::appendVelocitiesUpTo(double t) {
   VelocitySample v;
-  while (velocity_ && !velocity_->done() && velocity_->nextTime() <= t + 1e-12 && velocity_->next(v))
+  while (velocity_ && velocity_->nextTime() <= t + 1e-12 && velocity_->next(v))
     appendObservation(makeVelocityObservation(v.velocity_km_s, scenario_->timestamp(v.t),
                                               velocity_label_));
 }
