@@ -4,25 +4,25 @@
 // attitude to far below a milliarcsecond.
 #include <gtest/gtest.h>
 
-#include <Eigen/SVD>
+#include <cmath>
 #include <random>
 #include <vector>
 
 #include "common/aberration.hpp"
 #include "common/conventions.hpp"
+#include "sensors/attitude/wahba.hpp"
 #include "sensors/tracking/observer_aberration.hpp"
 
 namespace st {
 namespace {
 
-/// Noise-free weighted Wahba by SVD: the q_ic with u_k ~ R(q) v_k.
+/// The project's SVD Wahba solver: the q_ic with u_k ~ R(q) v_k, weights w_k = 1 / sigma_k^2.
 Quat wahba(const std::vector<Vec3>& v_cam, const std::vector<Vec3>& u, const std::vector<double>& w) {
-  Mat3 B = Mat3::Zero();
-  for (std::size_t k = 0; k < u.size(); ++k) B += w[k] * u[k] * v_cam[k].transpose();
-  const Eigen::JacobiSVD<Mat3> svd(B, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3 D = Mat3::Identity();
-  D(2, 2) = svd.matrixU().determinant() * svd.matrixV().determinant();
-  return Quat(Mat3(svd.matrixU() * D * svd.matrixV().transpose()));
+  std::vector<VectorObservation> obs;
+  for (std::size_t k = 0; k < u.size(); ++k) obs.push_back({v_cam[k], u[k], 1.0 / std::sqrt(w[k])});
+  const WahbaSolution sol = WahbaSolver::create("svd")->solve(obs);
+  EXPECT_TRUE(sol.ok) << sol.reason;
+  return sol.q_ib;
 }
 
 TEST(ObserverAberration, CorrectedFixIsTheTrueAttitudeAndTheUncorrectedIsOffByVOverC) {
