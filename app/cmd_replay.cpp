@@ -261,21 +261,12 @@ int runReplay(const ReplayOpts& o) {
   // Steps are reported as they finish and kept only for plots (live's StepReport).
   StepReport report(o.csv, !o.plots.empty());
   nav.setKeepSteps(false);
-  int frames = 0, solved = 0, lis = 0, tracking = 0, rejected = 0;
-  double frame_time = 0;
   nav.setStepCallback([&](const NavStep& s, const CObservationStarTracker::Ptr& st) {
     if (writer && st) {
       writer->write(*st);
       ++star_tracker_written;
     }
     report.push(s);
-    if (!s.has_frame) return;
-    ++frames;
-    frame_time += s.frame_time_s;
-    if (s.fix) ++solved;
-    if (s.mode == StarTrackerMode::kLostInSpace) ++lis;
-    if (s.mode == StarTrackerMode::kTracking) ++tracking;
-    if (s.use == FixUse::kRejected) ++rejected;
   });
 
   ProgressBar bar("replay", n_obs, true);  // silent under -q (common/progress)
@@ -313,12 +304,14 @@ int runReplay(const ReplayOpts& o) {
               camera->describe().c_str());
   std::printf("database: %zu stars (%s, %.1f s)\n", db.stars().size(),
               cfg.database.path.empty() ? "built in memory" : cfg.database.path.c_str(), db_s);
-  const double pct = frames ? 100.0 / frames : 0.0;
+  const StepReport::Counts& c = report.counts();
+  const double pct = c.frames ? 100.0 / c.frames : 0.0;
   std::printf("frames: %d, solved %.1f %%, lost-in-space %d, tracking %.1f %%, rejected by the "
               "filter %d, re-initialisations %d\n",
-              frames, solved * pct, lis, tracking * pct, rejected, nav.reinitializations());
+              c.frames, c.solved * pct, c.lost_in_space, c.tracking * pct, c.rejected,
+              nav.reinitializations());
   std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
-              frames ? 1e3 * frame_time / frames : 0.0, frames / std::max(wall_s, 1e-9));
+              c.frames ? 1e3 * c.frame_time_s / c.frames : 0.0, c.frames / std::max(wall_s, 1e-9));
   report.print(stdout);
 
   if (!o.csv.empty()) {
@@ -333,7 +326,7 @@ int runReplay(const ReplayOpts& o) {
     const std::string drawn = plots(report.steps(), o.plots);
     std::printf("plots: %s/{%s}.png\n", o.plots.c_str(), drawn.c_str());
   }
-  return solved > 0 ? kExitOk : kExitFailure;
+  return c.solved > 0 ? kExitOk : kExitFailure;
 }
 
 }  // namespace

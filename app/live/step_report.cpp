@@ -7,6 +7,14 @@ StepReport::StepReport(const std::string& csv_path, bool keep) : keep_(keep) {
 }
 
 void StepReport::push(const NavStep& s) {
+  if (s.has_frame) {
+    ++counts_.frames;
+    counts_.frame_time_s += s.frame_time_s;
+    counts_.solved += s.fix;
+    counts_.lost_in_space += s.mode == StarTrackerMode::kLostInSpace;
+    counts_.tracking += s.mode == StarTrackerMode::kTracking;
+    counts_.rejected += s.use == FixUse::kRejected;
+  }
   truth_rates_.push(s, [this](const NavStep& f) { final(f); });
 }
 

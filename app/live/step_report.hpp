@@ -18,6 +18,11 @@ namespace st::app {
 
 class StepReport {
  public:
+  /// The frame steps counted as they come (replay's "frames:" line).
+  struct Counts {
+    int frames = 0, solved = 0, lost_in_space = 0, tracking = 0, rejected = 0;
+    double frame_time_s = 0;  ///< [s] the pipeline's time over all frames
+  };
   /// `csv_path`: the steps' CSV (empty: none). `keep`: also keep the final steps (plots).
   explicit StepReport(const std::string& csv_path = "", bool keep = false);
   /// A finished step (in order).
@@ -30,6 +35,7 @@ class StepReport {
   int finishCsv();
   /// The final steps, when kept.
   const std::vector<NavStep>& steps() const { return kept_; }
+  const Counts& counts() const { return counts_; }
 
  private:
   void final(const NavStep& s);
@@ -40,6 +46,7 @@ class StepReport {
   std::unique_ptr<NavStepCsvWriter> csv_;
   bool keep_ = false;
   std::vector<NavStep> kept_;
+  Counts counts_;
 };
 
 }  // namespace st::app
