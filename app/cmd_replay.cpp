@@ -261,8 +261,9 @@ int runReplay(const ReplayOpts& o) {
   // Steps are reported as they finish and kept only for plots (live's StepReport).
   StepReport report(o.csv, !o.plots.empty());
   nav.setKeepSteps(false);
-  nav.setStepCallback([&](const NavStep& s, const CObservationStarTracker::Ptr& st) {
-    if (writer && st) {
+  nav.setStepCallback([&](const NavStep& s, const std::vector<CObservationStarTracker::Ptr>& fixes) {
+    for (const auto& st : fixes) {
+      if (!writer) break;
       writer->write(*st);
       ++star_tracker_written;
     }

@@ -8,12 +8,14 @@
 #include "common/check.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "sensors/attitude/joint_fix.hpp"
 
 namespace st {
 
 namespace {
 
 constexpr std::size_t kRateRing = 256;  // gyro samples kept for the mean rate (>= 1 kHz x 0.1 s)
+constexpr int kMaxHeads = 16;  // heads of one time stamp merged (more are used one by one)
 
 bool isRotation(const Mat3& R) {
   return (R * R.transpose() - Mat3::Identity()).norm() < 1e-9 && R.determinant() > 0;
@@ -34,9 +36,10 @@ bool FusionOptions::isValid(std::string* why) const {
   if (!(max_gyro_coast_s > 0)) return bad("max_gyro_coast_s", "must be > 0");
   if (!(rate_window_s > 0)) return bad("rate_window_s", "must be > 0");
   if (!isRotation(R_body_gyro)) return bad("R_body_gyro", "not a rotation matrix");
-  if (!isRotation(R_body_camera)) return bad("R_body_camera", "not a rotation matrix");
   if (max_warnings < 0) return bad("max_warnings", "must be >= 0");
   if (!(max_velocity_age_s >= 0)) return bad("max_velocity_age_s", "must be >= 0");
+  if (!(head_consistency_alpha > 0 && head_consistency_alpha < 1))
+    return bad("head_consistency_alpha", "must be in (0, 1)");
   if (!gyro_health.isValid(&err)) {
     if (why) *why = err;  // already "'<key>': ..."
     return false;
@@ -84,7 +87,8 @@ FusionLoop::FusionLoop(FusionOptions options, StarDirection star_direction)
     : opts_(validated(std::move(options))),
       star_direction_(std::move(star_direction)),
       filter_(opts_.filter),
-      health_(opts_.gyro_health) {
+      health_(opts_.gyro_health),
+      head_threshold_(opts_.head_consistency_alpha, 3 * (kMaxHeads - 1)) {
   recent_.reserve(kRateRing);
   ahead_.reserve(kRateRing);
 }
@@ -122,12 +126,12 @@ void FusionLoop::pushVelocity(double t, const Vec3& velocity_km_s) {
   push(Event{t, kVelocity, 0, 0, velocity_km_s, std::nullopt, {}});
 }
 
-void FusionLoop::pushFrame(double t, uint64_t tag) {
-  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::nullopt, {}});
+void FusionLoop::pushFrame(double t, uint64_t tag, int head) {
+  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::nullopt, {}, head});
 }
 
-void FusionLoop::pushFix(double t, uint64_t tag, FrameResult fix) {
-  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::move(fix), {}});
+void FusionLoop::pushFix(double t, uint64_t tag, FrameResult fix, int head) {
+  push(Event{t, kFrame, 0, tag, Vec3::Zero(), std::move(fix), {}, head});
 }
 
 void FusionLoop::pushMarker(double t, uint64_t tag) {
@@ -143,6 +147,12 @@ void FusionLoop::push(Event e) {
   }
   if (last_processed_ && key <= *last_processed_) {
     const bool dup = key == *last_processed_;
+    if (dup && e.kind == kFrame) {
+      warn("frame of head " + std::to_string(e.head) + " at " + formatLoopTime(e.t) +
+           " arrived after the step of that time was taken (a duplicate, or later than the "
+           "reorder window): dropped");
+      return;
+    }
     warn(std::string(dup ? "duplicate " : "out-of-order ") + kNames[e.kind] + " at " +
          formatLoopTime(e.t) +
          (dup ? "" : " (already processed up to " + formatLoopTime(last_processed_->first) + ")") +
@@ -161,7 +171,7 @@ void FusionLoop::push(Event e) {
     }
   }
   for (const Event& q : queue_) {
-    if (q.t == e.t && q.kind == e.kind) {
+    if (q.t == e.t && q.kind == e.kind && q.head == e.head) {
       warn(std::string("duplicate ") + kNames[e.kind] + " at " + formatLoopTime(e.t) + ": dropped");
       return;
     }
@@ -214,6 +224,7 @@ void FusionLoop::refuseFrame(Event& e) {
   s.is_frame = true;
   s.frame = &refused;
   s.use = FixUse::kClockRefused;  // no filter state at a stamp the gyro has not reached
+  s.heads.push_back({e.tag, e.head, &refused});
   emit(s);
 }
 
@@ -247,7 +258,18 @@ void FusionLoop::process(Event& e) {
       if (velocities_.size() == 8) velocities_.erase(velocities_.begin());
       velocities_.emplace_back(e.t, e.rate);
       break;
-    case kFrame: onFrame(e); break;
+    case kFrame: {
+      // Every head's frame of this time stamp is one step: they are next in the heap.
+      group_.clear();
+      group_.push_back(std::move(e));
+      while (!queue_.empty() && queue_.front().kind == kFrame && queue_.front().t == group_[0].t) {
+        std::pop_heap(queue_.begin(), queue_.end());
+        group_.push_back(std::move(queue_.back()));
+        queue_.pop_back();
+      }
+      onFrames(group_);
+      break;
+    }
     case kMarker: {
       FusionStep s;
       s.t = e.t;
@@ -453,8 +475,8 @@ FrameInputs FusionLoop::frameInputs(double t) const {
 }
 #pragma GCC diagnostic pop
 
-void FusionLoop::onFrame(Event& e) {
-  const double t = e.t;
+void FusionLoop::onFrames(std::vector<Event>& group) {
+  const double t = group.front().t;
   if (filter_.initialized() && !gyro_lost_ && gyroStale(t)) {
     if (gyroLost(t)) {
       char b[96];
@@ -474,23 +496,108 @@ void FusionLoop::onFrame(Event& e) {
       coastTo(t);
     }
   }
-  FrameResult made;
-  const FrameResult* fix = nullptr;
-  if (e.fix) {
-    fix = &*e.fix;
-  } else {
-    ST_ASSERT(processor_);  // pushFrame without a processor is a caller bug
-    made = processor_(e.tag, t, frameInputs(t));
-    fix = &made;
-  }
+  // Every head gets the same inputs: the filter's state before any of them is used.
+  std::optional<FrameInputs> inputs;
+  made_.resize(group.size());
   FusionStep s;
   s.t = t;
-  s.tag = e.tag;
+  s.tag = group.front().tag;
   s.is_frame = true;
-  s.frame = fix;
-  s.use = useFix(t, *fix, s.update);
+  for (std::size_t h = 0; h < group.size(); ++h) {
+    Event& e = group[h];
+    if (e.fix) {
+      made_[h] = std::move(*e.fix);
+    } else {
+      ST_ASSERT(processor_);  // pushFrame without a processor is a caller bug
+      if (!inputs) inputs = frameInputs(t);
+      made_[h] = processor_(e.tag, t, *inputs);
+    }
+    s.heads.push_back({e.tag, e.head, &made_[h]});
+  }
+  FrameResult joint;
+  if (s.heads.size() == 1) {
+    s.frame = &made_[0];
+    s.use = useFix(t, made_[0], s.update);
+  } else {
+    useHeads(t, s.heads, s, joint);
+  }
   s.filter = stateAt(t);
   emit(s);
+}
+
+void FusionLoop::useHeads(double t, const std::vector<HeadFrame>& heads, FusionStep& s,
+                          FrameResult& joint) {
+  std::vector<HeadFix> fixes;
+  const FrameResult* first = nullptr;
+  for (const HeadFrame& h : heads) {
+    if (!h.frame->hasAttitude()) continue;
+    fixes.push_back({h.frame->q_ib, h.frame->cov_body});
+    if (!first) first = h.frame;
+  }
+  s.frame = first ? first : heads.front().frame;
+  if (fixes.size() < 2) {
+    s.use = useFix(t, *s.frame, s.update);
+    return;
+  }
+  const JointFix j = jointFix(fixes);
+  s.heads_chi2 = j.chi2;
+  s.heads_dof = j.dof;
+  const bool agree = j.ok && j.dof <= head_threshold_.maxDof() && j.chi2 <= head_threshold_(j.dof);
+  if (agree) {
+    // One fix of all heads' stars, in the body frame (star-vector updates use every star).
+    joint.mode = StarTrackerMode::kTracking;
+    joint.prediction = first->prediction;
+    for (const HeadFrame& h : heads) {
+      const FrameResult& f = *h.frame;
+      if (!f.hasAttitude()) continue;
+      // Lost-in-space if any head is: only that re-initialises a filter (useFix).
+      if (f.mode == StarTrackerMode::kLostInSpace) joint.mode = StarTrackerMode::kLostInSpace;
+      for (MatchedStar m : f.stars) {
+        m.v_cam = f.R_body_cam * m.v_cam;
+        joint.stars.push_back(m);
+      }
+      joint.num_blobs += f.num_blobs;
+      joint.timings.total += f.timings.total;
+      joint.model_error_px = std::max(joint.model_error_px, f.model_error_px);
+    }
+    joint.q_ib = j.q_ib;
+    joint.cov_body = j.cov_body;
+    joint.rate = first->rate;
+    joint.R_body_cam = Mat3::Identity();
+    s.heads_merged = true;
+    s.frame = &joint;
+    s.use = useFix(t, joint, s.update);
+    return;
+  }
+  char b[160];
+  std::snprintf(b, sizeof b, "%zu heads' fixes disagree at %s (chi2 %.1f > %.1f, %d dof)",
+                fixes.size(), formatLoopTime(t).c_str(), j.chi2,
+                j.dof <= head_threshold_.maxDof() ? head_threshold_(j.dof) : 0.0, j.dof);
+  const bool gated = opts_.filter_enabled && !gyro_lost_ && !gyro_unhealthy_ &&
+                     filter_.initialized() && !reinit_pending_;
+  if (!gated) {
+    // Nothing to tell the right head from the wrong one: no fix rather than a wrong one.
+    warn(std::string(b) + " and no filter to arbitrate: no fix this step");
+    joint.mode = StarTrackerMode::kFailed;
+    joint.failure = FrameFailure::kRejected;
+    joint.detail = "heads disagree";
+    s.frame = &joint;
+    s.use = FixUse::kNoFix;
+    return;
+  }
+  warn(std::string(b) + ": each goes through the filter's gate on its own");
+  // The step reports the first head whose fix the filter took (else the first one's use).
+  s.use = FixUse::kNoFix;
+  for (const HeadFrame& h : heads) {
+    if (!h.frame->hasAttitude()) continue;
+    MekfUpdateResult u;
+    const FixUse use = useFix(t, *h.frame, u);
+    if (s.use == FixUse::kNoFix || (use == FixUse::kAccepted && s.use != FixUse::kAccepted)) {
+      s.use = use;
+      s.update = u;
+      s.frame = h.frame;
+    }
+  }
 }
 
 FixUse FusionLoop::useFix(double t, const FrameResult& fix, MekfUpdateResult& u) {
@@ -557,7 +664,7 @@ MekfUpdateResult FusionLoop::update(double t, const FrameResult& fix) {
   for (const MatchedStar& m : fix.stars) {
     const std::optional<Vec3> r = star_direction_(m.catalog_id);
     if (!r) continue;
-    meas.push_back(StarVectorMeasurement::fromSigma((opts_.R_body_camera * m.v_cam).normalized(),
+    meas.push_back(StarVectorMeasurement::fromSigma((fix.R_body_cam * m.v_cam).normalized(),
                                                     v ? applyAberration(*r, *v) : *r, sigma));
   }
   if (meas.empty()) return filter_.updateAttitude(fix.q_ib, fix.cov_body);

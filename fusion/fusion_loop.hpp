@@ -42,6 +42,14 @@
 ///    max_velocity_age_s) goes to its tracker (FrameInputs::observer_velocity_km_s), and the
 ///    star-vector updates aberrate their catalog directions with it;
 ///  - updates: the fix with its covariance, or (tight coupling) each matched star's vector;
+///  - several camera heads (pushFrame / pushFix with a head index): the frames of one time
+///    stamp are one step. Every head's tracker gets the same inputs; the heads' fixes become
+///    one joint fix (sensors/attitude/joint_fix.hpp: the joint Wahba solution of all their
+///    stars, in the body frame) when their disagreement passes chi2(3 (heads - 1)) at
+///    head_consistency_alpha, and that is the update. Heads that disagree are not merged:
+///    with a filter each fix goes through its gate on its own (the wrong head is refused),
+///    without one the step has no fix (no arbiter: nothing wrong reported as valid). A head's
+///    frame that arrives after its time stamp's step was taken is dropped with a warning;
 ///  - gyroless (filter.model kGyroless, fusion/gyroless_model.hpp): the filter's state holds
 ///    the body rate and propagates itself between frames; gyro samples are not used (one
 ///    warning). Its prediction (attitude, covariance, rate) is handed to the tracker as the
@@ -63,6 +71,7 @@
 #include <string>
 #include <vector>
 
+#include "common/chi_square.hpp"
 #include "fusion/gyro_health.hpp"
 #include "fusion/mekf.hpp"
 #include "sensors/tracking/frame.hpp"
@@ -85,7 +94,6 @@ struct FusionOptions {
   double max_gyro_coast_s = 1.0;
   double rate_window_s = 0.1;         ///< [s] gyro samples averaged for the rate handed on
   Mat3 R_body_gyro = Mat3::Identity();    ///< mounting of the gyro: w_body = R w_gyro
-  Mat3 R_body_camera = Mat3::Identity();  ///< of the star tracker (star-vector updates)
   int max_warnings = 50;              ///< warnings kept (later ones are only counted)
   /// false: no filter at all (a run without gyro: nothing propagates the attitude between
   /// frames, and a filter fed fixes alone diverges on a moving body). Every frame is asked
@@ -101,6 +109,9 @@ struct FusionOptions {
   /// one leaves the frame uncorrected (a warning). An orbit turns 0.07 deg/s: 10 s of hold
   /// moves its aberration by 0.06".
   double max_velocity_age_s = 10;
+  /// False-alarm probability of the heads' disagreement test (several heads): heads whose
+  /// fixes disagree beyond chi2(3 (heads - 1)) at it are not merged.
+  double head_consistency_alpha = 1e-6;
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -134,12 +145,27 @@ enum class FixUse : uint8_t {
 };
 const char* toString(FixUse u);
 
-/// One output step: a frame (or fix) or a marker.
+/// One head's frame of a step (valid during the callback only).
+struct HeadFrame {
+  uint64_t tag = 0;  ///< the caller's id of the frame
+  int head = 0;      ///< the head index given to pushFrame / pushFix
+  const FrameResult* frame = nullptr;
+};
+
+/// One output step: a frame (or fix), the frames of several heads at one time, or a marker.
 struct FusionStep {
   double t = 0;
-  uint64_t tag = 0;             ///< the caller's id of the frame / marker
+  uint64_t tag = 0;             ///< the caller's id of the frame / marker (the first head's)
   bool is_frame = false;
-  const FrameResult* frame = nullptr;  ///< is_frame: valid during the callback only
+  /// is_frame: the fix the filter used (a joint fix of several heads, or the one frame);
+  /// valid during the callback only.
+  const FrameResult* frame = nullptr;
+  std::vector<HeadFrame> heads;  ///< is_frame: every head's frame of this time (>= 1)
+  /// Several heads with a fix: their disagreement chi2 and its dof (joint_fix.hpp), and
+  /// whether they were merged into `frame`.
+  double heads_chi2 = 0;
+  int heads_dof = 0;
+  bool heads_merged = false;
   FixUse use = FixUse::kNoFix;
   MekfUpdateResult update;      ///< kAccepted / kRejected: the innovation record
   FilterState filter;
@@ -163,10 +189,10 @@ class FusionLoop {
   void pushGyro(double t, const Vec3& rate_gyro);
   /// The observer's velocity [km/s] in the inertial frame at t (see velocity_aberration).
   void pushVelocity(double t, const Vec3& velocity_km_s);
-  /// A frame to process with the FrameProcessor when it is due.
-  void pushFrame(double t, uint64_t tag);
+  /// A frame of camera head `head` to process with the FrameProcessor when it is due.
+  void pushFrame(double t, uint64_t tag, int head = 0);
   /// A frame already processed (its tracker asked frameInputs() itself).
-  void pushFix(double t, uint64_t tag, FrameResult fix);
+  void pushFix(double t, uint64_t tag, FrameResult fix, int head = 0);
   /// A step with the filter's state at t.
   void pushMarker(double t, uint64_t tag);
   /// Processes everything queued.
@@ -201,6 +227,7 @@ class FusionLoop {
     Vec3 rate;                        // kGyro (body frame); kVelocity [km/s]
     std::optional<FrameResult> fix;   // kFrame made elsewhere
     std::string refused;              // kFrame: why it is not processed (camera clock)
+    int head = 0;                     // kFrame: the camera head
     bool operator<(const Event& o) const;  // heap order: later is "less"
   };
   struct TimedRate {
@@ -218,7 +245,10 @@ class FusionLoop {
   void checkHealth(double t, double dt, Vec3& rate_body);
   bool clockAhead(Event& e) const;
   void refuseFrame(Event& e);
-  void onFrame(Event& e);
+  /// The frames of one time stamp (one per head).
+  void onFrames(std::vector<Event>& group);
+  /// Several heads' fixes: one joint fix, or one by one through the gate (FusionStep).
+  void useHeads(double t, const std::vector<HeadFrame>& heads, FusionStep& s, FrameResult& joint);
   FixUse useFix(double t, const FrameResult& fix, MekfUpdateResult& u);
   /// (Re-)initialises the filter from a fix (gyroless: the rate from the fix's own rate).
   void initializeFrom(double t, const FrameResult& fix);
@@ -263,6 +293,9 @@ class FusionLoop {
   bool filter_suspended_ = false;  // since the gyro was lost, until re-initialised
   bool reinit_pending_ = false;
   int reinits_ = 0;
+  ChiSquareThresholds head_threshold_;  // the heads' disagreement, by dof
+  std::vector<Event> group_;            // scratch: the frames of one time stamp
+  std::vector<FrameResult> made_;       // scratch: their results
   std::vector<std::string> warnings_;
   int warning_count_ = 0;
 };

@@ -79,7 +79,8 @@ std::string navStepCsvHeader() {
          "fix_err_cross_arcsec,fix_err_roll_arcsec,"
          "rate_x_deg_s,rate_y_deg_s,rate_z_deg_s,sigma_rate_x_deg_s,sigma_rate_y_deg_s,"
          "sigma_rate_z_deg_s,fix_rate_x_deg_s,fix_rate_y_deg_s,fix_rate_z_deg_s,"
-         "true_rate_x_deg_s,true_rate_y_deg_s,true_rate_z_deg_s,rate_err_deg_s,rate_nees";
+         "true_rate_x_deg_s,true_rate_y_deg_s,true_rate_z_deg_s,rate_err_deg_s,rate_nees,"
+         "heads,heads_with_fix,heads_merged,heads_chi2";
 }
 
 std::string navStepCsvRow(const NavStep& s) {
@@ -140,6 +141,11 @@ std::string navStepCsvRow(const NavStep& s) {
   for (int i = 0; i < 3; ++i) put(s.has_true_rate, s.rate_true[i] * kDegPerRad);
   put(filt && s.has_true_rate, s.rate_error.norm() * kDegPerRad);
   put(filt && s.gyroless && s.has_true_rate, s.rate_nees);
+  // Several heads: how many had a fix, whether they were merged, their disagreement.
+  int with_fix = 0;
+  for (const NavHead& h : s.heads) with_fix += h.fix;
+  o << ',' << s.heads.size() << ',' << with_fix << ',' << int(s.heads_merged);
+  put(s.heads_dof > 0, s.heads_chi2);
   return o.str();
 }
 

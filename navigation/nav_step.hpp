@@ -18,6 +18,22 @@
 
 namespace st {
 
+/// One camera head's frame of a step with several heads.
+struct NavHead {
+  std::string label;  ///< its camera label
+  Mat3 R_body_cam = Mat3::Identity();
+  StarTrackerMode mode = StarTrackerMode::kFailed;
+  FrameFailure failure = FrameFailure::kNone;
+  int stars_matched = 0;
+  bool fix = false;
+  Quat q_fix = Quat::Identity();  ///< body attitude of its own fix
+  Mat3 cov_fix = Mat3::Zero();
+  /// Its fix against truth in its own camera frame: cross-boresight and roll about its own
+  /// boresight (fix && has_truth).
+  AttitudeError fix_error;
+  int misidentified = 0;
+};
+
 struct NavStep {
   mrpt::Clock::time_point stamp;
   double t = 0;              ///< [s] from the first observation
@@ -45,6 +61,13 @@ struct NavStep {
   bool has_fix_rate = false;       ///< the tracker measured the rate since its last fix
   Vec3 fix_rate = Vec3::Zero();    ///< [rad/s] that rate (seed 004 eq. 7.1)
   Mat3 fix_rate_cov = Mat3::Zero();
+
+  /// Several heads: each head's frame ([0] the camera_label head), whether their fixes were
+  /// merged into the step's fix (q_fix: the joint fix), and their disagreement chi2 / dof.
+  std::vector<NavHead> heads;
+  bool heads_merged = false;
+  double heads_chi2 = 0;
+  int heads_dof = 0;
 
   FixUse use = FixUse::kNoFix;     ///< what the filter did with the fix
   Eigen::VectorXd innovation;

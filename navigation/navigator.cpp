@@ -19,15 +19,10 @@ namespace st {
 
 namespace {
 
-FusionOptions withCameraMounting(FusionOptions f, const PipelineOptions& p) {
-  f.R_body_camera = p.trackerOptions().R_body_cam;
-  return f;
-}
-
 FusionOptions validatedFusion(const NavigatorOptions& o) {
   std::string why;
   if (!o.isValid(&why)) throw InputError("navigator option " + why);
-  return withCameraMounting(o.fusion, o.pipeline);
+  return o.fusion;
 }
 
 /// Catalog id -> inertial direction, for star-vector updates (sorted ids, binary search).
@@ -43,6 +38,10 @@ FusionLoop::StarDirection starDirections(const StarDatabase& db) {
   };
 }
 
+bool samePose(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b) {
+  return (a.getRotationMatrix().asEigen() - b.getRotationMatrix().asEigen()).norm() < 1e-9;
+}
+
 }  // namespace
 
 bool isGyroObservation(const mrpt::obs::CObservation& obs, const NavigatorOptions& o) {
@@ -54,6 +53,17 @@ bool NavigatorOptions::isValid(std::string* why) const {
     if (why) *why = "'velocity_label': the same as gyro_label ('" + gyro_label + "')";
     return false;
   }
+  for (std::size_t i = 0; i < head_labels.size(); ++i) {
+    const std::string& l = head_labels[i];
+    const bool clash = l.empty() || l == camera_label || l == gyro_label || l == truth_label ||
+                       l == velocity_label ||
+                       std::find(head_labels.begin(), head_labels.begin() + i, l) !=
+                           head_labels.begin() + i;
+    if (clash) {
+      if (why) *why = "'head_labels': '" + l + "' is empty or names another sensor or head";
+      return false;
+    }
+  }
   return fusion.isValid(why) && pipeline.trackerOptions().isValid(why);
 }
 
@@ -62,9 +72,21 @@ Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, Navigato
     : db_(db),
       opts_(std::move(options)),
       source_(source),
+      camera_(camera),
       loop_(validatedFusion(opts_), starDirections(db)) {
+  heads_.resize(1 + opts_.head_labels.size());
+  heads_[0].label = opts_.camera_label;
+  heads_[0].fix_label = opts_.pipeline.sensor_label;
+  for (std::size_t h = 1; h < heads_.size(); ++h) {
+    heads_[h].label = opts_.head_labels[h - 1];
+    heads_[h].fix_label = opts_.pipeline.sensor_label + "_" + heads_[h].label;
+  }
   if (source_ == Source::kCameraFrames) {
-    tracker_ = std::make_unique<StarTracker>(db, camera, opts_.pipeline.trackerOptions());
+    // Checked once here: a head's tracker is made at its first image.
+    TrackerOptions t = opts_.pipeline.trackerOptions();
+    t.R_body_cam.setIdentity();
+    std::string why;
+    if (!t.isValid(&why)) throw InputError("navigator option " + why);
     loop_.setFrameProcessor(
         [this](uint64_t tag, double t, const FrameInputs& in) { return processFrame(tag, t, in); });
   }
@@ -92,12 +114,16 @@ int Navigator::warningCount() const {
   return loop_.warningCount() + static_cast<int>(own_warnings_.size());
 }
 
-Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs) const {
+Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs, int* head) const {
   const std::string& l = obs.sensorLabel;
   if (isGyroObservation(obs, opts_)) return kGyro;
-  if (source_ == Source::kCameraFrames && l == opts_.camera_label &&
-      dynamic_cast<const mrpt::obs::CObservationImage*>(&obs))
-    return kCamera;
+  if (source_ == Source::kCameraFrames && dynamic_cast<const mrpt::obs::CObservationImage*>(&obs)) {
+    for (std::size_t h = 0; h < heads_.size(); ++h) {
+      if (heads_[h].label != l) continue;
+      if (head) *head = static_cast<int>(h);
+      return kCamera;
+    }
+  }
   if (source_ == Source::kStarTrackerFixes && l == opts_.star_tracker_label &&
       dynamic_cast<const CObservationStarTracker*>(&obs))
     return kFix;
@@ -111,7 +137,8 @@ Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs) const {
 
 void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
   if (!obs) return;
-  const Kind kind = kindOf(*obs);
+  int head = 0;
+  const Kind kind = kindOf(*obs, &head);
   if (kind == kOther) return;  // not ours (e.g. STAR_TRACKER of an earlier replay)
   if (!t0_) t0_ = obs->timestamp;
   const double t = secondsFromStart(obs->timestamp);
@@ -122,7 +149,8 @@ void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
       return;
     case kCamera:
       held_[tag] = obs;
-      loop_.pushFrame(t, tag);
+      head_of_[tag] = head;
+      loop_.pushFrame(t, tag, head);
       return;
     case kFix:
       held_[tag] = obs;
@@ -148,6 +176,8 @@ void Navigator::flush() {
   loop_.flush();
   finishPending();
   held_.clear();
+  head_of_.clear();
+  frame_obs_.clear();
 }
 
 FrameInputs Navigator::frameInputs(mrpt::Clock::time_point t) const {
@@ -160,16 +190,39 @@ void Navigator::processBefore(mrpt::Clock::time_point t) {
 }
 
 FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& in) {
-  frame_obs_.reset();
   const auto it = held_.find(tag);
   ST_ASSERT(it != held_.end());
   auto& io = static_cast<mrpt::obs::CObservationImage&>(*it->second);
+  Head& head = headOf(io, head_of_.at(tag));
+  return processImage(head, io, t, in, frame_obs_[tag]);
+}
+
+Navigator::Head& Navigator::headOf(const mrpt::obs::CObservationImage& io, int index) {
+  Head& head = heads_[static_cast<std::size_t>(index)];
+  if (!head.tracker) {
+    // MRPT's convention: the sensor's pose on the vehicle travels with its observations.
+    head.mount = io.cameraPose;
+    TrackerOptions t = opts_.pipeline.trackerOptions();
+    t.R_body_cam = head.mount.getRotationMatrix().asEigen();
+    head.tracker = std::make_unique<StarTracker>(db_, camera_, t);
+  } else if (!samePose(head.mount, io.cameraPose)) {
+    if (!head.pose_warned)
+      warn(head.label + " observation at " + formatLoopTime(secondsFromStart(io.timestamp)) +
+           ": its cameraPose differs from the head's first image; the first one's mounting is "
+           "kept (warned once)");
+    head.pose_warned = true;
+  }
+  return head;
+}
+
+FrameResult Navigator::processImage(Head& head, mrpt::obs::CObservationImage& io, double t,
+                                    const FrameInputs& in, CObservationStarTracker::Ptr& out_obs) {
   FrameResult failed;
   failed.failure = FrameFailure::kNoImage;
   auto skipped = [&](const std::string& why) {
     failed.detail = why;
-    warn("CAMERA observation at " + formatLoopTime(t) + ": " + why + ": frame skipped");
-    frame_obs_ = observationOf(failed, io.timestamp);
+    warn(head.label + " observation at " + formatLoopTime(t) + ": " + why + ": frame skipped");
+    out_obs = observationOf(failed, io.timestamp, head);
     return failed;
   };
   // A missing external file is said in one line; MRPT's loader would throw a stack dump.
@@ -192,30 +245,30 @@ FrameResult Navigator::processFrame(uint64_t tag, double t, const FrameInputs& i
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
     image = grey;
   }
-  if (const std::optional<double> seen = frozen_.repeats(image, t)) {
+  if (const std::optional<double> seen = head.frozen.repeats(image, t)) {
     ++frozen_frames_;
     if (io.image.isExternallyStored()) io.image.unload();
     const FrameResult r = frozenFrameResult(*seen);
-    warn("CAMERA observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
-    frame_obs_ = observationOf(r, io.timestamp);
+    warn(head.label + " observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
+    out_obs = observationOf(r, io.timestamp, head);
     return r;
   }
-  FrameResult r = tracker_->process(image, t, in);
+  FrameResult r = head.tracker->process(image, t, in);
   if (io.image.isExternallyStored()) io.image.unload();
-  frame_obs_ = observationOf(r, io.timestamp);
+  out_obs = observationOf(r, io.timestamp, head);
   return r;
 }
 
 CObservationStarTracker::Ptr Navigator::observationOf(const FrameResult& r,
-                                                      mrpt::Clock::time_point t) const {
-  return observationFromFrame(r, t, opts_.pipeline.sensor_label, opts_.pipeline.sensor_pose);
+                                                      mrpt::Clock::time_point t,
+                                                      const Head& head) const {
+  return observationFromFrame(r, t, head.fix_label, head.mount);
 }
 
 void Navigator::onStep(const FusionStep& fs) {
   const auto it = held_.find(fs.tag);
   ST_ASSERT(it != held_.end());
   const mrpt::obs::CObservation::Ptr obs = it->second;
-  held_.erase(it);
   if (fs.is_frame) {
     finishPending();
     NavStep s;
@@ -227,7 +280,6 @@ void Navigator::onStep(const FusionStep& fs) {
     s.failure = r.failure;
     s.reason = r.detail;
     s.stars_matched = static_cast<int>(r.stars.size());
-    s.frame_time_s = r.timings.total;
     s.fix = r.hasAttitude();
     if (s.fix) {
       s.q_fix = r.q_ib;
@@ -249,13 +301,43 @@ void Navigator::onStep(const FusionStep& fs) {
         s.reason += (s.reason.empty() ? "" : "; ") + fs.update.reason;
     }
     fillFilterState(s, fs.filter);
+    // One observation per head, in the heads' order (the truth's head index); a head
+    // without a frame at this time has none.
+    pending_obs_.assign(heads_.size(), nullptr);
+    if (heads_.size() > 1) s.heads.resize(heads_.size());
+    for (std::size_t h = 0; h < s.heads.size(); ++h) s.heads[h].label = heads_[h].label;
+    for (const HeadFrame& hf : fs.heads) {
+      s.frame_time_s += hf.frame->timings.total;
+      const std::size_t h = static_cast<std::size_t>(hf.head);
+      if (source_ == Source::kCameraFrames) {
+        pending_obs_[h] = frame_obs_[hf.tag];
+        frame_obs_.erase(hf.tag);
+      } else {
+        pending_obs_[h] = std::dynamic_pointer_cast<CObservationStarTracker>(held_.at(hf.tag));
+      }
+      if (h < s.heads.size()) {
+        NavHead& nh = s.heads[h];
+        const FrameResult& f = *hf.frame;
+        nh.R_body_cam = f.R_body_cam;
+        nh.mode = f.mode;
+        nh.failure = f.failure;
+        nh.stars_matched = static_cast<int>(f.stars.size());
+        nh.fix = f.hasAttitude();
+        if (nh.fix) {
+          nh.q_fix = f.q_ib;
+          nh.cov_fix = f.cov_body;
+        }
+      }
+      held_.erase(hf.tag);
+      head_of_.erase(hf.tag);
+    }
+    s.heads_merged = fs.heads_merged;
+    s.heads_chi2 = fs.heads_chi2;
+    s.heads_dof = fs.heads_dof;
     pending_ = std::move(s);
-    pending_obs_ = source_ == Source::kCameraFrames
-                       ? frame_obs_
-                       : std::dynamic_pointer_cast<CObservationStarTracker>(obs);
-    frame_obs_.reset();
     return;
   }
+  held_.erase(it);
   // A truth marker: joins the frame step of the same time, or is a step of its own.
   if (!pending_ || pending_->stamp != obs->timestamp) {
     finishPending();
@@ -264,19 +346,22 @@ void Navigator::onStep(const FusionStep& fs) {
     s.t = fs.t;
     fillFilterState(s, fs.filter);
     pending_ = std::move(s);
-    pending_obs_.reset();
+    pending_obs_.clear();
   }
-  scoreTruth(*pending_, static_cast<const mrpt::obs::CObservation6DFeatures&>(*obs),
-             pending_obs_.get());
+  scoreTruth(*pending_, static_cast<const mrpt::obs::CObservation6DFeatures&>(*obs), pending_obs_);
   finishPending();
 }
 
 void Navigator::finishPending() {
   if (!pending_) return;
-  if (callback_) callback_(*pending_, pending_obs_);
+  // The callback's observations: the heads that had a frame, in the heads' order.
+  std::vector<CObservationStarTracker::Ptr> obs;
+  for (const auto& o : pending_obs_)
+    if (o) obs.push_back(o);
+  if (callback_) callback_(*pending_, obs);
   if (keep_steps_) steps_.push_back(std::move(*pending_));
   pending_.reset();
-  pending_obs_.reset();
+  pending_obs_.clear();
 }
 
 }  // namespace st

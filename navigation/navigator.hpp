@@ -13,6 +13,13 @@
 ///   CAMERA (CObservationImage)          -> FusionLoop::pushFrame: the navigator's own star
 ///                                          tracker processes it with the loop's inputs
 ///                                          (replay; Source::kCameraFrames);
+///   further heads (head_labels)         -> the same, each head with its own tracker, mounted
+///                                          as its images' cameraPose says (MRPT: the pose of
+///                                          the sensor on the vehicle travels with every
+///                                          observation); the frames of one time stamp are one
+///                                          step of the loop (a joint fix), and every head's
+///                                          STAR_TRACKER observation is written
+///                                          (label: sensor_label, then sensor_label_<head>);
 ///   STAR_TRACKER (CObservationStarTracker) -> FusionLoop::pushFix: a fix made by a sensor
 ///                                          that asked frameInputs() itself (live;
 ///                                          Source::kStarTrackerFixes);
@@ -28,6 +35,7 @@
 #pragma once
 #include <mrpt/core/Clock.h>
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservationImage.h>
 
 #include <opencv2/core.hpp>
 
@@ -55,6 +63,8 @@ struct NavigatorOptions {
   std::string camera_label = "CAMERA", gyro_label = "GYRO", truth_label = "GROUND_TRUTH";
   std::string star_tracker_label = "STAR_TRACKER";  ///< fixes read in kStarTrackerFixes
   std::string velocity_label = "VELOCITY";  ///< the observer's velocity (aberration)
+  /// Camera labels of further heads beside camera_label (replay: kCameraFrames).
+  std::vector<std::string> head_labels;
 
   bool isValid(std::string* why = nullptr) const;
 };
@@ -77,9 +87,10 @@ class Navigator {
   Navigator(const Navigator&) = delete;
   Navigator& operator=(const Navigator&) = delete;
 
-  /// Called for every finished step, with the star tracker's observation (nullptr for steps
-  /// without a frame).
-  using StepCallback = std::function<void(const NavStep&, const CObservationStarTracker::Ptr&)>;
+  /// Called for every finished step, with the star tracker's observations (one per head of
+  /// the step; none for steps without a frame).
+  using StepCallback =
+      std::function<void(const NavStep&, const std::vector<CObservationStarTracker::Ptr>&)>;
   void setStepCallback(StepCallback cb) { callback_ = std::move(cb); }
 
   /// Queues an observation (others than the four labels are ignored).
@@ -113,9 +124,22 @@ class Navigator {
 
  private:
   enum Kind { kGyro, kCamera, kFix, kTruth, kVelocity, kOther };
-  Kind kindOf(const mrpt::obs::CObservation& obs) const;
+  /// A camera head of kCameraFrames: its tracker is made at its first image (its mounting).
+  struct Head {
+    std::string label;      ///< camera label
+    std::string fix_label;  ///< the label of its STAR_TRACKER observations
+    std::unique_ptr<StarTracker> tracker;
+    mrpt::poses::CPose3D mount;
+    FrozenFrameCheck frozen;  // a repeated readout is not processed
+    bool pose_warned = false;
+  };
+  Kind kindOf(const mrpt::obs::CObservation& obs, int* head = nullptr) const;
   FrameResult processFrame(uint64_t tag, double t, const FrameInputs& in);
-  CObservationStarTracker::Ptr observationOf(const FrameResult& r, mrpt::Clock::time_point t) const;
+  FrameResult processImage(Head& head, mrpt::obs::CObservationImage& io, double t,
+                           const FrameInputs& in, CObservationStarTracker::Ptr& out_obs);
+  Head& headOf(const mrpt::obs::CObservationImage& io, int index);
+  CObservationStarTracker::Ptr observationOf(const FrameResult& r, mrpt::Clock::time_point t,
+                                             const Head& head) const;
   void onStep(const FusionStep& s);
   void finishPending();
   void warn(const std::string& msg);
@@ -123,19 +147,20 @@ class Navigator {
   const StarDatabase& db_;
   NavigatorOptions opts_;
   Source source_;
-  std::unique_ptr<StarTracker> tracker_;
+  const CameraModel& camera_;
+  std::vector<Head> heads_;  // [0]: camera_label, then head_labels
   FusionLoop loop_;
   std::vector<std::string> own_warnings_;
 
   std::optional<mrpt::Clock::time_point> t0_;
   uint64_t next_tag_ = 0;
   std::map<uint64_t, mrpt::obs::CObservation::Ptr> held_;  // until their step
-  CObservationStarTracker::Ptr frame_obs_;  // the observation of the frame being processed
-  FrozenFrameCheck frozen_;  // a repeated readout is not processed
+  std::map<uint64_t, int> head_of_;  // a held frame's head
+  std::map<uint64_t, CObservationStarTracker::Ptr> frame_obs_;  // processed, until their step
   int frozen_frames_ = 0;
 
   std::optional<NavStep> pending_;  // a frame step waiting for a truth at the same time
-  CObservationStarTracker::Ptr pending_obs_;
+  std::vector<CObservationStarTracker::Ptr> pending_obs_;
   std::vector<NavStep> steps_;
   bool keep_steps_ = true;
   StepCallback callback_;

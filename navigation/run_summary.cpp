@@ -24,6 +24,7 @@ double RunSummary::Series::mean() const { return empty() ? 0 : sum / double(n())
 
 void RunSummary::add(const NavStep& s) {
   addRate(s);
+  addHeads(s);
   filtered_ = filtered_ || s.initialized;
   // Scored as a filtered run: the filter's estimate at every step with truth, and the fixes
   // of the frames where the filter held no state (suspended: gyro lost) apart.
@@ -109,6 +110,58 @@ void RunSummary::print(std::FILE* out) const {
   if (unscored_ > 0)
     std::fprintf(out, "  identification: not scored on %ld frame(s) whose truth lists no stars\n",
                  unscored_);
+  printHeads(out);
+}
+
+void RunSummary::addHeads(const NavStep& s) {
+  if (s.heads.size() < 2 || !s.has_frame) return;
+  if (heads_.size() < s.heads.size()) heads_.resize(s.heads.size());
+  ++head_steps_;
+  if (s.heads_dof > 0) {
+    heads_chi2_.add(s.heads_chi2 / s.heads_dof);
+    merged_ += s.heads_merged;
+    disagreed_ += !s.heads_merged;
+  }
+  for (std::size_t h = 0; h < s.heads.size(); ++h) {
+    const NavHead& nh = s.heads[h];
+    HeadSeries& hs = heads_[h];
+    hs.label = nh.label;
+    ++hs.frames;
+    hs.solved += nh.fix;
+    hs.misidentified += nh.misidentified;
+    if (nh.fix && s.has_truth) {
+      hs.cross.add(rad2arcsec(nh.fix_error.cross_boresight));
+      hs.roll.add(std::abs(rad2arcsec(nh.fix_error.roll)));
+      hs.total.add(rad2arcsec(nh.fix_error.total));
+    }
+  }
+  if (s.heads_merged && s.has_truth) {
+    joint_cross_.add(rad2arcsec(s.fix_error.cross_boresight));
+    joint_roll_.add(std::abs(rad2arcsec(s.fix_error.roll)));
+    joint_total_.add(rad2arcsec(s.fix_error.total));
+  }
+}
+
+void RunSummary::printHeads(std::FILE* out) const {
+  if (heads_.empty()) return;
+  std::fprintf(out, "camera heads: %zu, %llu frame steps; joint fixes %llu, heads disagreeing "
+               "(not merged) %llu; disagreement chi2/dof mean %.2f (1 when consistent)\n",
+               heads_.size(), static_cast<unsigned long long>(head_steps_),
+               static_cast<unsigned long long>(merged_), static_cast<unsigned long long>(disagreed_),
+               heads_chi2_.mean());
+  for (const HeadSeries& h : heads_) {
+    std::fprintf(out, "  head %-10s solved %5.1f %%, own fixes vs GROUND_TRUTH in its frame "
+                 "[arcsec]: cross-boresight RMS %.2f, roll RMS %.2f, total RMS %.2f; %ld "
+                 "misidentified\n",
+                 h.label.c_str(), h.frames ? 100.0 * double(h.solved) / double(h.frames) : 0.0,
+                 h.cross.rms(), h.roll.rms(), h.total.rms(), h.misidentified);
+  }
+  if (!joint_total_.empty()) {
+    std::fprintf(out, "  joint fixes vs GROUND_TRUTH (body frame, roll about body z) [arcsec]: "
+                 "cross-boresight RMS %.2f, roll RMS %.2f, total RMS %.2f (%llu frames)\n",
+                 joint_cross_.rms(), joint_roll_.rms(), joint_total_.rms(),
+                 static_cast<unsigned long long>(joint_total_.n()));
+  }
 }
 
 void RunSummary::addRate(const NavStep& s) {

@@ -9,6 +9,7 @@
 /// length keeps no per-step record for it.
 #pragma once
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "common/log_histogram.hpp"
@@ -49,6 +50,20 @@ class RunSummary {
 
   void addRate(const NavStep& s);
   bool gyroless_ = false;
+
+  /// Several heads: each head's own fixes in its own frame (roll about its own boresight),
+  /// and the joint fixes in the body frame.
+  struct HeadSeries {
+    std::string label;
+    uint64_t frames = 0, solved = 0;
+    long misidentified = 0;
+    Series cross, roll, total;
+  };
+  void addHeads(const NavStep& s);
+  void printHeads(std::FILE* out) const;
+  std::vector<HeadSeries> heads_;
+  uint64_t head_steps_ = 0, merged_ = 0, disagreed_ = 0;
+  Series joint_cross_, joint_roll_, joint_total_, heads_chi2_;
   Series rate_x_, rate_y_, rate_z_, rate_total_, rate_nees_, rate_fix_err_;  // [deg/s], NEES
 };
 

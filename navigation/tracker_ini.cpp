@@ -59,6 +59,8 @@ NavigatorIniKeys NavigatorIniKeys::of(const NavigatorOptions& o) {
   k.velocity_label = o.velocity_label;
   k.velocity_aberration = f.velocity_aberration;
   k.max_velocity_age_s = f.max_velocity_age_s;
+  k.head_labels = o.head_labels;
+  k.head_consistency_alpha = f.head_consistency_alpha;
   return k;
 }
 
@@ -109,7 +111,14 @@ const SectionSchema<NavigatorIniKeys>& navigatorIniSchema(bool live) {
                  "VELOCITY samples are not used)")
             .add("max_velocity_age_s", &K::max_velocity_age_s,
                  "[s] a velocity sample older than this at a frame is not used (the frame is "
-                 "not corrected, one warning)");
+                 "not corrected, one warning)")
+            .add("head_labels", &K::head_labels,
+                 "camera labels of further heads beside camera_label (replay), comma-separated, in the order of "
+                 "the scenario's head_sections; each head is mounted as its images' cameraPose "
+                 "says, and the heads' frames of one time make one joint fix")
+            .add("head_consistency_alpha", &K::head_consistency_alpha,
+                 "false-alarm probability of the heads' disagreement test: heads whose fixes "
+                 "disagree beyond it are not merged");
     if (with_enabled) s.add("enabled", &K::enabled, "run the filter");
     return s;
   };
@@ -174,6 +183,8 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   n.truth_label = k.truth_label;
   n.star_tracker_label = k.star_tracker_label;
   n.velocity_label = k.velocity_label;
+  n.head_labels = k.head_labels;
+  f.head_consistency_alpha = k.head_consistency_alpha;
   std::string why;
   if (!f.filter.isValid(&why)) throw InputError(r.where("filter") + ": " + why);
   if (!f.isValid(&why)) throw InputError(r.where("navigator") + " key " + why);

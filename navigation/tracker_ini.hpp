@@ -53,6 +53,8 @@ struct NavigatorIniKeys {
   std::string camera_label, gyro_label, truth_label, star_tracker_label, velocity_label;
   bool velocity_aberration = true;
   double max_velocity_age_s = 10;
+  std::vector<std::string> head_labels;
+  double head_consistency_alpha = 1e-6;
   bool enabled = true;  ///< live only
 
   /// The keys of `o` (its defaults; the gyro mount as identity).

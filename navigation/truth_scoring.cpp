@@ -13,28 +13,36 @@ namespace {
 /// would score more leniently.
 constexpr double kUnresolvedSeparationPx = 2.0;
 
-void scoreIdentities(const CObservationStarTracker& st, const FrameTruth& truth, NavStep& s) {
+struct IdentityScore {
+  int misidentified = 0, blend_claims = 0;
+};
+
+/// The matched stars of head `head` against that head's true stars.
+IdentityScore scoreIdentities(const CObservationStarTracker& st, const FrameTruth& truth, int head) {
+  IdentityScore score;
   for (const MatchedStar& m : st.stars) {
     const TruthStar* nearest = nullptr;
     const TruthStar* claimed = nullptr;
     for (const TruthStar& t : truth.stars) {
+      if (t.head != head) continue;
       if (!nearest || (t.px - m.px).squaredNorm() < (nearest->px - m.px).squaredNorm())
         nearest = &t;
       if (t.id == m.catalog_id) claimed = &t;
     }
     if (claimed == nearest) continue;
     if (claimed && (claimed->px - nearest->px).norm() < kUnresolvedSeparationPx) {
-      ++s.blend_claims;
+      ++score.blend_claims;
     } else {
-      ++s.misidentified;
+      ++score.misidentified;
     }
   }
+  return score;
 }
 
 }  // namespace
 
 void scoreTruth(NavStep& s, const mrpt::obs::CObservation6DFeatures& obs,
-                const CObservationStarTracker* fix) {
+                const std::vector<CObservationStarTracker::Ptr>& fixes) {
   const FrameTruth truth = truthFromObservation(obs);
   s.has_truth = true;
   s.q_true = truth.q_ib;
@@ -46,8 +54,20 @@ void scoreTruth(NavStep& s, const mrpt::obs::CObservation6DFeatures& obs,
     s.fix_error = attitudeError(s.q_fix, s.q_true);
     s.fix_nees = attitudeNees(s.q_fix, s.cov_fix, s.q_true);
   }
-  if (fix && !truth.stars.empty()) {
-    scoreIdentities(*fix, truth, s);
+  for (std::size_t h = 0; h < s.heads.size(); ++h) {
+    NavHead& head = s.heads[h];
+    if (!head.fix) continue;
+    // In the head's own frame: its roll is about its own boresight.
+    const Quat q_bc(head.R_body_cam);
+    head.fix_error = attitudeError(canonical(head.q_fix * q_bc), canonical(s.q_true * q_bc));
+  }
+  if (truth.stars.empty()) return;
+  for (std::size_t h = 0; h < fixes.size(); ++h) {
+    if (!fixes[h]) continue;
+    const IdentityScore score = scoreIdentities(*fixes[h], truth, static_cast<int>(h));
+    s.misidentified += score.misidentified;
+    s.blend_claims += score.blend_claims;
+    if (h < s.heads.size()) s.heads[h].misidentified = score.misidentified;
     s.ids_scored = true;
   }
 }

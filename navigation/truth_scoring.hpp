@@ -11,9 +11,11 @@
 
 namespace st {
 
-/// Fills the truth fields of `s`; `fix` is the step's star-tracker observation (nullptr when
-/// the step has none): its matched stars are checked against the truth's.
+/// Fills the truth fields of `s`; `fixes` are the step's star-tracker observations, one per
+/// head in the order of s.heads (none when the step has no frame): their matched stars are
+/// checked against the truth's stars of the same head. With several heads each head's own
+/// fix is scored too (NavHead::fix_error, misidentified).
 void scoreTruth(NavStep& s, const mrpt::obs::CObservation6DFeatures& truth,
-                const CObservationStarTracker* fix);
+                const std::vector<CObservationStarTracker::Ptr>& fixes);
 
 }  // namespace st

@@ -6,6 +6,7 @@ live; this page is generated from them, never edited by hand).
 Usage: scripts/config_docs.py [path/to/startracker] [-o docs/configuration.md]
 """
 import argparse
+import re
 import subprocess
 import sys
 
@@ -19,7 +20,14 @@ SAMPLES = [
     # observer's own velocity is not simulated).
     ("Scenario with an orbit (`[scenario] orbit_section`, default `orbit`)", "rawlogs/orbit_leo.ini",
      ("orbit",)),
+    # A camera head's section ([scenario] head_sections names one per head).
+    ("Scenario with several camera heads (`[scenario] head_sections`)", "rawlogs/two_heads.ini",
+     ("head2",)),
 ]
+
+# A key printed commented out: it names a section the file does not have (e.g.
+# "# orbit_section = orbit (absent: no orbit)"); a row of its own, not help for the next key.
+DISABLED_KEY = re.compile(r"^#\s*([a-z_0-9]+) = (\S+) \((absent[^)]*)\)$")
 
 
 def parse(text):
@@ -30,7 +38,12 @@ def parse(text):
         if s.startswith("# ----") or s.startswith("# effective"):
             help_lines = []
             continue
-        if s.startswith("#"):
+        disabled = DISABLED_KEY.match(s)
+        if disabled and section is not None:
+            key, value, note = disabled.groups()
+            yield section, key, value, " ".join(help_lines + [note])
+            help_lines = []
+        elif s.startswith("#"):
             help_lines.append(s.lstrip("# ").strip())
         elif s.startswith("[") and s.endswith("]"):
             section, help_lines = s[1:-1], []

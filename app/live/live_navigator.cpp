@@ -14,7 +14,7 @@ LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
   // Each step is summarised and written as it finishes, then dropped: the navigator keeps
   // none (a one-hour run kept ~1 KB per frame of them, the memory growth of the soak).
   nav_.setKeepSteps(false);
-  nav_.setStepCallback([this](const NavStep& s, const CObservationStarTracker::Ptr&) {
+  nav_.setStepCallback([this](const NavStep& s, const std::vector<CObservationStarTracker::Ptr>&) {
     report_.push(s);
     if (!s.has_frame || !s.fix) return;
     ++stats_.fixes;

@@ -40,6 +40,9 @@ FrameResult frameFromObservation(const CObservationStarTracker& o) {
   r.q_ib = o.q_ib;
   r.cov_body = o.cov_body;
   r.stars = o.stars;
+  const auto& R = o.sensor_pose.getRotationMatrix();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.R_body_cam(i, j) = R(i, j);
   r.num_blobs = o.num_blobs;
   r.timings = o.timings;
   r.rate = o.rate;

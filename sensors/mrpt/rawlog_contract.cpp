@@ -3,6 +3,7 @@
 #include <mrpt/img/CImage.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include "common/check.hpp"
 #include "common/mrpt_convert.hpp"
 
 namespace st {
@@ -10,10 +11,12 @@ namespace st {
 mrpt::obs::CObservationImage::Ptr makeCameraObservation(const cv::Mat& image,
                                                         const CameraModel& cam,
                                                         mrpt::Clock::time_point t,
-                                                        const std::string& label) {
+                                                        const std::string& label,
+                                                        const mrpt::poses::CPose3D& mount) {
   auto obs = mrpt::obs::CObservationImage::Create();
   obs->timestamp = t;
   obs->sensorLabel = label;
+  obs->cameraPose = mount;
   obs->cameraParams = cam.toTCamera();
   obs->image = mrpt::img::CImage(image, mrpt::img::DEEP_COPY);
   return obs;
@@ -52,7 +55,8 @@ mrpt::obs::CObservation6DFeatures::Ptr makeTruthObservation(const FrameTruth& tr
   obs->sensorPose = mrpt::poses::CPose3D(toPose3DQuat(truth.q_ib));
   for (const TruthStar& s : truth.stars) {
     mrpt::obs::CObservation6DFeatures::TMeasurement m;
-    m.id = static_cast<int32_t>(s.id);
+    ST_ASSERT(s.id < (1u << 24) && s.head >= 0 && s.head < kMaxTruthHeads);
+    m.id = static_cast<int32_t>(s.id | (static_cast<uint32_t>(s.head) << 24));
     m.pose = mrpt::poses::CPose3D(s.px.x(), s.px.y(), s.mag, 0, 0, 0);
     obs->sensedFeatures.push_back(m);
   }
@@ -63,7 +67,8 @@ FrameTruth truthFromObservation(const mrpt::obs::CObservation6DFeatures& obs) {
   FrameTruth out;
   out.q_ib = fromPose3DQuat(mrpt::poses::CPose3DQuat(obs.sensorPose));
   for (const auto& m : obs.sensedFeatures)
-    out.stars.push_back({static_cast<uint32_t>(m.id), Vec2(m.pose.x(), m.pose.y()), m.pose.z()});
+    out.stars.push_back({static_cast<uint32_t>(m.id) & 0xFFFFFFu, Vec2(m.pose.x(), m.pose.y()),
+                         m.pose.z(), static_cast<int>((static_cast<uint32_t>(m.id) >> 24) & 0x3F)});
   return out;
 }
 

@@ -40,9 +40,14 @@ inline constexpr const char* kVelocityLabel = "VELOCITY";
 /// One true star of a GROUND_TRUTH observation.
 struct TruthStar {
   uint32_t id = 0;         ///< catalog id
-  Vec2 px = Vec2::Zero();  ///< [px] true image position at mid-exposure
+  Vec2 px = Vec2::Zero();  ///< [px] true image position at mid-exposure, in its head's image
   double mag = 0;          ///< V magnitude
+  /// The camera head whose image holds it (0: the first; a scenario's head_sections order).
+  /// Encoded in the feature id's bits 24-30 (catalog ids are < 2^24), so that a one-head
+  /// rawlog's truth is what it always was.
+  int head = 0;
 };
+inline constexpr int kMaxTruthHeads = 64;
 
 /// A GROUND_TRUTH observation decoded.
 struct FrameTruth {
@@ -50,11 +55,12 @@ struct FrameTruth {
   std::vector<TruthStar> stars;
 };
 
-/// The image is deep-copied.
-mrpt::obs::CObservationImage::Ptr makeCameraObservation(const cv::Mat& image,
-                                                        const CameraModel& cam,
-                                                        mrpt::Clock::time_point t,
-                                                        const std::string& label = kCameraLabel);
+/// The image is deep-copied. `mount` (the head's pose on the body, MRPT's cameraPose) is the
+/// mounting a replay gives that head's tracker: body from camera.
+mrpt::obs::CObservationImage::Ptr makeCameraObservation(
+    const cv::Mat& image, const CameraModel& cam, mrpt::Clock::time_point t,
+    const std::string& label = kCameraLabel,
+    const mrpt::poses::CPose3D& mount = mrpt::poses::CPose3D());
 mrpt::obs::CObservationIMU::Ptr makeGyroObservation(const Vec3& rate_body,
                                                     mrpt::Clock::time_point t,
                                                     const std::string& label = kGyroLabel);

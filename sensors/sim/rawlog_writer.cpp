@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <filesystem>
 
+#include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/progress.hpp"
 #include "sensors/sim/sim_observations.hpp"
@@ -25,6 +26,13 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
   SimulateSummary sum;
   sum.seed = opts.seed.value_or(sc.seed);
   SkySimulator sim = opts.stars ? SkySimulator(sc, sum.seed, opts.stars) : SkySimulator(sc, sum.seed);
+  // Further camera heads render the same sky (one star source) with their own mounting,
+  // noise and faults; the gyro is the first simulator's.
+  std::vector<std::unique_ptr<SkySimulator>> more_heads;
+  for (int h = 1; h < static_cast<int>(sc.heads.size()); ++h)
+    more_heads.push_back(std::make_unique<SkySimulator>(sc, sum.seed, sim.stars(), h));
+  std::vector<const SkySimulator*> heads = {&sim};
+  for (const auto& s : more_heads) heads.push_back(s.get());
 
   namespace fs = std::filesystem;
   if (opts.external_images) {
@@ -65,16 +73,30 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
       }
     }
   };
-  char name[64];
+  char name[160];
   for (int k = 0; k < n_frames; ++k) {
-    const SimFrame f = sim.frame(k);
-    flush_samples_until(f.t);
-    // Written when the camera delivers it (after the gyro up to f.t), stamped by its clock.
-    const auto stamp = sc.timestamp(f.stamp_t);
-    if (!f.dropped) {
-      auto cam = makeCameraObservation(f.image, sc.camera, stamp);
+    FrameTruth truth;
+    double t = 0;
+    for (std::size_t h = 0; h < heads.size(); ++h) {
+      const SimFrame f = heads[h]->frame(k);
+      const CameraHead& head = heads[h]->head();
+      if (h == 0) {
+        flush_samples_until(f.t);
+        t = f.t;
+        truth.q_ib = f.q_ib;
+      }
+      for (const TrueStar& s : f.truth) truth.stars.push_back({s.id, s.px, s.mag, static_cast<int>(h)});
+      // Written when the camera delivers it (after the gyro up to f.t), stamped by its clock.
+      const auto stamp = sc.timestamp(f.stamp_t);
+      if (f.dropped) {
+        sum.frames_dropped += h == 0;
+        continue;
+      }
+      const Vec3 ypr = head.mount_ypr_deg * kRadPerDeg;
+      auto cam = makeCameraObservation(f.image, sc.camera, stamp, head.label,
+                                       mrpt::poses::CPose3D(0, 0, 0, ypr.x(), ypr.y(), ypr.z()));
       if (opts.external_images) {
-        std::snprintf(name, sizeof(name), "%s_%06d.png", kCameraLabel, k);
+        std::snprintf(name, sizeof(name), "%s_%06d.png", head.label.c_str(), k);
         const std::string file_path = (fs::path(sum.images_dir) / name).string();
         // Highest PNG compression: noisy sky frames are the bulk of a run's size.
         if (!cv::imwrite(file_path, f.image, {cv::IMWRITE_PNG_COMPRESSION, 9}))
@@ -83,11 +105,9 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
       }
       ar << *cam;
       ++sum.objects;
-    } else {
-      ++sum.frames_dropped;
     }
     // The truth keeps the true clock: a camera clock jump is the camera's fault alone.
-    ar << *makeTruthObservation(f.q_ib, f.truth, sc.timestamp(f.t));
+    ar << *makeTruthObservation(truth, sc.timestamp(t));
     ++sum.objects;
     ++sum.frames;
     bar.update(static_cast<std::size_t>(k + 1));

@@ -75,9 +75,28 @@ std::shared_ptr<const StarDatabase> buildScenarioDatabase(const Scenario& sc) {
 
 // ---- SkySimulator ---------------------------------------------------------------------
 
-SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed)
+namespace {
+
+const CameraHead& headOf(const Scenario& sc, int head) {
+  if (head < 0 || head >= static_cast<int>(sc.heads.size()))
+    throw InputError(sc.source + ": no camera head " + std::to_string(head));
+  return sc.heads[static_cast<std::size_t>(head)];
+}
+
+/// Head 0 keeps the run seed's streams (a one-head scenario renders what it always did).
+uint64_t headSeed(uint64_t seed, int head) {
+  return seed + static_cast<uint64_t>(head) * 0x9E3779B97F4A7C15ull;
+}
+
+}  // namespace
+
+SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed, int head)
     : sc_(sc),
       seed_(seed),
+      head_(headOf(sc, head)),
+      faults_(head_.faults.value_or(sc.faults)),
+      q_bc_(head_.R_body_cam),
+      image_seed_(headSeed(seed, head)),
       db_(buildScenarioDatabase(sc)),
       stars_(std::make_shared<DatabaseStarSource>(*db_)),
       detector_(sc.sensor, sc.camera.width(), sc.camera.height()),
@@ -86,9 +105,13 @@ SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed)
 }
 
 SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed,
-                           std::shared_ptr<const StarSource> stars)
+                           std::shared_ptr<const StarSource> stars, int head)
     : sc_(sc),
       seed_(seed),
+      head_(headOf(sc, head)),
+      faults_(head_.faults.value_or(sc.faults)),
+      q_bc_(head_.R_body_cam),
+      image_seed_(headSeed(seed, head)),
       stars_(std::move(stars)),
       detector_(sc.sensor, sc.camera.width(), sc.camera.height()),
       gyro_(sc, seed) {
@@ -98,10 +121,10 @@ SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed,
 void SkySimulator::init() {
   if (!sc_.motion) throw InputError(sc_.source + ": scenario has no motion profile");
   renderer_ = std::make_unique<StarRenderer>(sc_.camera, sc_.sensor, *stars_);
-  render_opts_.extras = placeFalseSources(sc_.faults, sc_.camera, *sc_.motion, sc_.duration_s,
-                                          sc_.sensor.psf_sigma_px, seed_);
-  render_opts_.missing_star_fraction = sc_.faults.missing_star_fraction;
-  render_opts_.missing_star_seed = seed_;
+  render_opts_.extras = placeFalseSources(faults_, sc_.camera, *sc_.motion, sc_.duration_s,
+                                          sc_.sensor.psf_sigma_px, image_seed_);
+  render_opts_.missing_star_fraction = faults_.missing_star_fraction;
+  render_opts_.missing_star_seed = image_seed_;
   background_ = detector_.meanBackground();
 }
 
@@ -111,12 +134,17 @@ SimFrame SkySimulator::frame(int k) const {
   f.t = sc_.frameTime(k);
   f.q_ib = canonical(sc_.motion->attitude(f.t));
   f.rate_body = sc_.motion->rateBody(f.t);
-  f.stamp_t = cameraClock(sc_.faults, f.t);
-  f.dropped = isFrameDropped(sc_.faults, seed_, k, f.t);
+  const FaultParams& faults = faults_;
+  f.stamp_t = cameraClock(faults, f.t);
+  f.dropped = isFrameDropped(faults, image_seed_, k, f.t);
   const MotionProfile& motion = *sc_.motion;
   const double t_mid = f.t;
-  const AttitudeAt q_at = [&motion, t_mid](double tau) { return motion.attitude(t_mid + tau); };
-  f.exposure_s = sc_.sensor.exposureAt(sc_.camera, f.rate_body);
+  // The head's camera attitude: R_ic = R_ib R_bc.
+  const Quat q_bc = q_bc_;
+  const AttitudeAt q_at = [&motion, t_mid, q_bc](double tau) {
+    return Quat(motion.attitude(t_mid + tau) * q_bc);
+  };
+  f.exposure_s = sc_.sensor.exposureAt(sc_.camera, q_bc.conjugate() * f.rate_body);
   // Sky and dark current (hot pixels too) grow with the exposure like the starlight.
   cv::Mat electrons = f.exposure_s == sc_.sensor.exposure_s
                           ? background_.clone()
@@ -127,7 +155,7 @@ SimFrame SkySimulator::frame(int k) const {
   opts.observer_velocity_km_s = sc_.observerVelocity(f.t);
   f.truth = renderer_->render(q_at, electrons, opts);
   if (f.dropped) return f;
-  const int shown = frozenImageSource(sc_.faults, k, f.t, sc_.frame_rate_hz);
+  const int shown = frozenImageSource(faults, k, f.t, sc_.frame_rate_hz);
   if (shown != k) {  // a stuck readout: the earlier image again, the truth of now
     SimFrame old = frame(shown);
     if (!old.image.empty()) {
@@ -136,10 +164,10 @@ SimFrame SkySimulator::frame(int k) const {
       return f;
     }
   }
-  std::mt19937_64 clutter = makeRng(seed_, RandomStream::kFrameClutter, static_cast<uint64_t>(k));
-  f.spikes = addSpikes(electrons, sc_.faults, clutter);
-  addBlinding(electrons, sc_.faults, f.t, f.exposure_s);
-  std::mt19937_64 noise = makeRng(seed_, RandomStream::kFrameNoise, static_cast<uint64_t>(k));
+  std::mt19937_64 clutter = makeRng(image_seed_, RandomStream::kFrameClutter, static_cast<uint64_t>(k));
+  f.spikes = addSpikes(electrons, faults, clutter);
+  addBlinding(electrons, faults, f.t, f.exposure_s);
+  std::mt19937_64 noise = makeRng(image_seed_, RandomStream::kFrameNoise, static_cast<uint64_t>(k));
   f.image = detector_.expose(electrons, noise);
   return f;
 }

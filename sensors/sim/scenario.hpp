@@ -21,6 +21,12 @@
 ///     gyro_section = gyro (absent section = no gyro), faults_section = faults,
 ///     orbit_section = orbit (absent section = no orbit: no aberration of the observer's own
 ///     motion)
+///     head_sections =          several camera heads: one section per head, comma-separated (empty = one head,
+///                              CAMERA, along the body's +z)
+///   [<head>]   label = CAMERA2 (its images' rawlog label), mount_ypr_deg = yaw pitch roll
+///              (MRPT CPose3D angles of body-from-camera, written as the images' cameraPose),
+///              faults_section (its camera faults: blinding, drops, frozen images, clock;
+///              default the scenario's). Every head has the scenario's camera and sensor.
 ///   [camera]   CameraModel::loadIni keys: resolution = [w h] with either fx, fy, cx, cy
 ///              or fov_deg (horizontal); optional dist
 ///   [sensor]   SensorParams keys (sensor_params.hpp)
@@ -71,6 +77,22 @@ struct ScenarioKeys {
   bool aberration = true;
   std::string camera_section = "camera", sensor_section = "sensor", motion_section = "motion",
               gyro_section = "gyro", faults_section = "faults", orbit_section = "orbit";
+  std::vector<std::string> head_sections;
+};
+
+/// A [<head>] section as written.
+struct HeadKeys {
+  std::string label;
+  Vec3 mount_ypr_deg = Vec3::Zero();
+  std::string faults_section;  ///< empty = the scenario's faults_section
+};
+
+/// One camera head of a scenario: its label, mounting and camera faults.
+struct CameraHead {
+  std::string label = "CAMERA";
+  Vec3 mount_ypr_deg = Vec3::Zero();  ///< [deg] MRPT yaw pitch roll of body-from-camera
+  Mat3 R_body_cam = Mat3::Identity();
+  std::optional<FaultParams> faults;  ///< its camera faults (none: the scenario's `faults`)
 };
 
 /// The [gyro] section: GyroParams plus the run's turn-on bias.
@@ -89,6 +111,7 @@ struct ScenarioIni {
   std::optional<ScenarioGyroKeys> gyro;
   FaultParams faults;
   std::optional<CircularOrbit> orbit;
+  std::vector<HeadKeys> heads;  ///< in head_sections order
 };
 ScenarioIni readScenarioIni(const IniReader& r);
 /// The effective scenario in ini form, every default filled in; reads back to `sc`.
@@ -110,6 +133,8 @@ struct Scenario {
   std::optional<GyroParams> gyro;
   Vec3 gyro_initial_bias_rad_s = Vec3::Zero();
   std::optional<CircularOrbit> orbit;
+  /// Every camera head (>= 1; one head: label CAMERA, identity mounting, `faults`).
+  std::vector<CameraHead> heads = {CameraHead{}};
 
   /// Throws InputError naming the file, section and key.
   static Scenario load(const std::string& path);
@@ -196,10 +221,15 @@ class VelocityStream {
 
 class SkySimulator {
  public:
-  /// Uses the scenario's database / catalog (built here) and seed `seed`.
-  SkySimulator(const Scenario& sc, uint64_t seed);
+  /// Uses the scenario's database / catalog (built here) and seed `seed`; renders camera
+  /// head `head` (Scenario::heads; its own noise streams unless it is head 0).
+  SkySimulator(const Scenario& sc, uint64_t seed, int head = 0);
   /// Uses a given star source (tests, synthetic skies).
-  SkySimulator(const Scenario& sc, uint64_t seed, std::shared_ptr<const StarSource> stars);
+  SkySimulator(const Scenario& sc, uint64_t seed, std::shared_ptr<const StarSource> stars,
+               int head = 0);
+  const CameraHead& head() const { return head_; }
+  /// The star source it renders (another head's simulator can share it).
+  const std::shared_ptr<const StarSource>& stars() const { return stars_; }
 
   const Scenario& scenario() const { return sc_; }
   uint64_t seed() const { return seed_; }
@@ -218,6 +248,10 @@ class SkySimulator {
 
   Scenario sc_;
   uint64_t seed_;
+  CameraHead head_;
+  FaultParams faults_;            // the head's camera faults
+  Quat q_bc_ = Quat::Identity();  // body from camera
+  uint64_t image_seed_;           // the head's noise, clutter and fault streams
   std::shared_ptr<const StarDatabase> db_;
   std::shared_ptr<const StarSource> stars_;
   Detector detector_;

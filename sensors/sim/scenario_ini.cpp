@@ -1,6 +1,7 @@
 // Reading and printing a scenario .ini through the section schemas (scenario.hpp lists the
 // sections): one strict reader for every section, and the effective configuration.
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/poses/CPose3D.h>
 
 #include <filesystem>
 
@@ -33,8 +34,30 @@ const SectionSchema<ScenarioKeys>& scenarioKeysSchema() {
           .add("faults_section", &S::faults_section, "section of the faults (absent = none)")
           .add("orbit_section", &S::orbit_section,
                "section of the observer's circular orbit (absent = none: no aberration of its "
-               "own velocity)");
+               "own velocity)")
+          .add("head_sections", &S::head_sections,
+               "sections of several camera heads, comma-separated, one per head (empty = one head, CAMERA, "
+               "along the body's +z)");
   return schema;
+}
+
+const SectionSchema<HeadKeys>& headKeysSchema() {
+  using K = HeadKeys;
+  static const auto schema =
+      SectionSchema<K>()
+          .add("label", &K::label, "rawlog label of the head's images (required, unique)")
+          .add("mount_ypr_deg", &K::mount_ypr_deg,
+               "[deg] yaw pitch roll (MRPT CPose3D) of body-from-camera: the images' cameraPose")
+          .add("faults_section", &K::faults_section,
+               "section of the head's camera faults (empty = the scenario's faults_section)");
+  return schema;
+}
+
+Mat3 mountRotation(const Vec3& ypr_deg) {
+  return mrpt::poses::CPose3D(0, 0, 0, deg2rad(ypr_deg.x()), deg2rad(ypr_deg.y()),
+                              deg2rad(ypr_deg.z()))
+      .getRotationMatrix()
+      .asEigen();
 }
 
 const SectionSchema<ScenarioGyroKeys>& gyroKeysSchema() {
@@ -96,6 +119,27 @@ ScenarioIni readScenarioIni(const IniReader& r) {
     if (!err.empty()) throw InputError(r.where(k.orbit_section) + ": " + err);
     sc.orbit = o;
   }
+  for (const std::string& sec : k.head_sections) {
+    if (!r.cfg.sectionExists(sec))
+      throw InputError(r.whereKey(S, "head_sections") + ": no section [" + sec + "]");
+    HeadKeys h;
+    headKeysSchema().read(r, sec, h);
+    if (h.label.empty()) throw InputError(r.where(sec) + ": 'label' is required");
+    // The label names the head's image files too (<label>_000000.png).
+    if (h.label.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") !=
+        std::string::npos)
+      throw InputError(r.whereKey(sec, "label") + " = '" + h.label +
+                       "': only letters, digits, '_' and '-'");
+    for (const HeadKeys& other : sc.heads)
+      if (other.label == h.label)
+        throw InputError(r.whereKey(sec, "label") + " = '" + h.label + "': another head's label");
+    if (!h.mount_ypr_deg.allFinite())
+      throw InputError(r.whereKey(sec, "mount_ypr_deg") + ": not finite");
+    if (!h.faults_section.empty() && !r.cfg.sectionExists(h.faults_section))
+      throw InputError(r.whereKey(sec, "faults_section") + " = '" + h.faults_section +
+                       "': no section [" + h.faults_section + "]");
+    sc.heads.push_back(h);
+  }
   return sc;
 }
 
@@ -116,6 +160,8 @@ std::string printScenarioIni(const ScenarioIni& sc) {
   if (sc.gyro) out += gyroKeysSchema().print(k.gyro_section, *sc.gyro) + "\n";
   out += faultParamsSchema().print(k.faults_section, sc.faults);
   if (sc.orbit) out += "\n" + orbitSchema().print(k.orbit_section, *sc.orbit);
+  for (std::size_t h = 0; h < sc.heads.size(); ++h)
+    out += "\n" + headKeysSchema().print(k.head_sections[h], sc.heads[h]);
   return out;
 }
 
@@ -156,6 +202,19 @@ Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const st
   }
   sc.faults = ini.faults;
   sc.orbit = ini.orbit;
+  if (!ini.heads.empty()) {
+    sc.heads.clear();
+    for (std::size_t h = 0; h < ini.heads.size(); ++h) {
+      const HeadKeys& hk = ini.heads[h];
+      CameraHead head;
+      head.label = hk.label;
+      head.mount_ypr_deg = hk.mount_ypr_deg;
+      head.R_body_cam = mountRotation(hk.mount_ypr_deg);
+      if (!hk.faults_section.empty())
+        head.faults = FaultParams::fromConfig(r, hk.faults_section);
+      sc.heads.push_back(head);
+    }
+  }
   return sc;
 }
 

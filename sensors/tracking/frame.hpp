@@ -123,6 +123,9 @@ struct FrameResult {
   Quat q_ib = Quat::Identity();
   Mat3 cov_body = Mat3::Zero();
   std::vector<MatchedStar> stars;
+  /// Body from camera of the stars' v_cam (the tracker's mounting, TrackerOptions::
+  /// R_body_cam; identity for a joint fix of several heads, whose stars are body vectors).
+  Mat3 R_body_cam = Mat3::Identity();
   int num_blobs = 0;          ///< blobs (or windows with a centroid) found in the image
   StageTimings timings;
   /// The camera model changed with this frame (healed by lost-in-space or refined online):

@@ -131,6 +131,7 @@ void StarTracker::setAttitude(FrameResult& out, const CameraFix& fix) const {
 FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameInputs& in) {
   const auto t0 = Clock::now();
   FrameResult out;
+  out.R_body_cam = R_bc_;
   if (in.force_lost_in_space) reset();
   velocity_.reset();
   if (in.observer_velocity_km_s && in.observer_velocity_km_s->allFinite())
@@ -170,6 +171,7 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
       const std::string why = out.detail;
       reset();
       out = FrameResult{};
+      out.R_body_cam = R_bc_;
       if (lostInSpace(image, rate_cam, out, fix)) {
         acceptLostInSpace(rate_cam, fix, out);
       } else {

@@ -60,7 +60,7 @@ void BM_ReplayTrackingFrame(benchmark::State& state) {
   Navigator nav(*d.db, d.sc.camera, o);
   nav.setKeepSteps(false);
   int frames = 0, tracking = 0;
-  nav.setStepCallback([&](const NavStep& s, const CObservationStarTracker::Ptr&) {
+  nav.setStepCallback([&](const NavStep& s, const std::vector<CObservationStarTracker::Ptr>&) {
     ++frames;
     tracking += s.mode == StarTrackerMode::kTracking;
   });

@@ -73,8 +73,9 @@ RunResult runScenario(const Scenario& sc, const StarDatabase& db, const Navigato
   Navigator nav(db, sc.camera, o);
   std::map<int64_t, std::vector<TrueStar>> truth_stars;  // by timestamp ticks
   RunResult r;
-  nav.setStepCallback([&](const NavStep& s, const CObservationStarTracker::Ptr& obs) {
-    if (!obs || !obs->hasAttitude()) return;
+  nav.setStepCallback([&](const NavStep& s, const std::vector<CObservationStarTracker::Ptr>& fixes) {
+    if (fixes.empty() || !fixes[0]->hasAttitude()) return;
+    const CObservationStarTracker::Ptr& obs = fixes[0];
     ++r.frames_with_fix;
     const auto& truth = truth_stars[s.stamp.time_since_epoch().count()];
     for (const MatchedStar& m : obs->stars) {
