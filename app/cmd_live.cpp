@@ -104,6 +104,7 @@ class LiveSession {
       if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) trackers_.push_back(t);
       runners_.push_back(std::make_unique<SensorRunner>(std::move(spec), queue_));
     }
+    if (nav_enabled_ && !trackers_.empty()) orderHeads();  // before any sensor starts
   }
 
   /// True when every sensor failed to start on its configuration (exit 2, not 1).
@@ -127,7 +128,12 @@ class LiveSession {
       nav_ = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o, args_.csv);
       recorder_.setNavigator(nav_.get());
       LiveNavigator* nav = nav_.get();
-      t->setInputsProvider([nav](mrpt::Clock::time_point when) { return nav->frameInputs(when); });
+      // Every head's tracker asks the one loop for its frame's inputs.
+      for (std::size_t h = 0; h < trackers_.size(); ++h) {
+        const int head = static_cast<int>(h);
+        trackers_[h]->setInputsProvider(
+            [nav, head](mrpt::Clock::time_point when) { return nav->frameInputs(when, head); });
+      }
       replay_config_ = replayConfigPath(out_path_);
       writeReplayConfig(replay_config_, *t, live_keys_);
     }
@@ -182,7 +188,7 @@ class LiveSession {
     printReports();
     if (nav_) {
       nav_->flush();
-      trackers_.front()->setInputsProvider({});
+      for (CStarTrackerSensor* head : trackers_) head->setInputsProvider({});
     }
     writer_.close();
     display_.close();
@@ -225,6 +231,37 @@ class LiveSession {
   }
 
  private:
+  /// Several star trackers are several camera heads of one body: [navigator] head_labels
+  /// names the further heads' cameras (image_label); the first head is the tracker whose
+  /// camera is not among them, and its database and camera serve the navigator. Orders
+  /// trackers_ so, and checks that each further head's fixes carry the label the navigator
+  /// reads them under (<first head's sensorLabel>_<camera label>).
+  void orderHeads() {
+    const std::vector<std::string>& heads = nav_opts_.head_labels;
+    const std::string where = args_.config + ": [navigator] head_labels";
+    if (trackers_.size() != 1 + heads.size())
+      throw InputError(where + " names " + std::to_string(heads.size()) +
+                       " further head(s), but the file has " + std::to_string(trackers_.size()) +
+                       " CStarTrackerSensor section(s): one per head");
+    std::vector<CStarTrackerSensor*> ordered(trackers_.size(), nullptr);
+    for (CStarTrackerSensor* t : trackers_) {
+      const auto it = std::find(heads.begin(), heads.end(), t->imageLabel());
+      const std::size_t h = it == heads.end() ? 0 : 1 + std::size_t(it - heads.begin());
+      if (ordered[h])
+        throw InputError(where + ": two CStarTrackerSensor sections have image_label = " +
+                         t->imageLabel() + " (each head its own camera label)");
+      ordered[h] = t;
+    }
+    trackers_ = ordered;
+    for (std::size_t h = 1; h < trackers_.size(); ++h) {
+      const std::string want = headFixLabel(trackers_[0]->getSensorLabel(), heads[h - 1]);
+      if (trackers_[h]->getSensorLabel() != want)
+        throw InputError(where + ": the CStarTrackerSensor of head '" + heads[h - 1] +
+                         "' needs sensorLabel = " + want + " (found " +
+                         trackers_[h]->getSensorLabel() + ")");
+    }
+  }
+
   void stopRunners(bool trackers) {
     std::vector<SensorRunner*> group;
     for (auto& r : runners_) {

@@ -44,6 +44,10 @@ bool samePose(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b) {
 
 }  // namespace
 
+std::string headFixLabel(const std::string& first_fix_label, const std::string& camera_label) {
+  return first_fix_label + "_" + camera_label;
+}
+
 bool isGyroObservation(const mrpt::obs::CObservation& obs, const NavigatorOptions& o) {
   return obs.sensorLabel == o.gyro_label && dynamic_cast<const mrpt::obs::CObservationIMU*>(&obs);
 }
@@ -74,12 +78,16 @@ Navigator::Navigator(const StarDatabase& db, const CameraModel& camera, Navigato
       source_(source),
       camera_(camera),
       loop_(validatedFusion(opts_), starDirections(db)) {
+  // A head's fixes: replay writes them under the pipeline's label, live reads them under the
+  // star tracker sensors' (the first head's label, then <it>_<camera label>).
+  const std::string& fixes = source_ == Source::kCameraFrames ? opts_.pipeline.sensor_label
+                                                               : opts_.star_tracker_label;
   heads_.resize(1 + opts_.head_labels.size());
   heads_[0].label = opts_.camera_label;
-  heads_[0].fix_label = opts_.pipeline.sensor_label;
+  heads_[0].fix_label = fixes;
   for (std::size_t h = 1; h < heads_.size(); ++h) {
     heads_[h].label = opts_.head_labels[h - 1];
-    heads_[h].fix_label = opts_.pipeline.sensor_label + "_" + heads_[h].label;
+    heads_[h].fix_label = headFixLabel(fixes, heads_[h].label);
   }
   if (source_ == Source::kCameraFrames) {
     // Checked once here: a head's tracker is made at its first image.
@@ -124,9 +132,13 @@ Navigator::Kind Navigator::kindOf(const mrpt::obs::CObservation& obs, int* head)
       return kCamera;
     }
   }
-  if (source_ == Source::kStarTrackerFixes && l == opts_.star_tracker_label &&
-      dynamic_cast<const CObservationStarTracker*>(&obs))
-    return kFix;
+  if (source_ == Source::kStarTrackerFixes && dynamic_cast<const CObservationStarTracker*>(&obs)) {
+    for (std::size_t h = 0; h < heads_.size(); ++h) {
+      if (heads_[h].fix_label != l) continue;
+      if (head) *head = static_cast<int>(h);
+      return kFix;
+    }
+  }
   if (l == opts_.truth_label && dynamic_cast<const mrpt::obs::CObservation6DFeatures*>(&obs))
     return kTruth;
   if (!opts_.velocity_label.empty() && l == opts_.velocity_label &&
@@ -154,7 +166,8 @@ void Navigator::push(const mrpt::obs::CObservation::Ptr& obs) {
       return;
     case kFix:
       held_[tag] = obs;
-      loop_.pushFix(t, tag, frameFromObservation(static_cast<const CObservationStarTracker&>(*obs)));
+      loop_.pushFix(t, tag, frameFromObservation(static_cast<const CObservationStarTracker&>(*obs)),
+                    head);
       return;
     case kTruth:
       held_[tag] = obs;

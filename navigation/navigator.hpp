@@ -69,6 +69,11 @@ struct NavigatorOptions {
   bool isValid(std::string* why = nullptr) const;
 };
 
+/// The label of the fixes of a further head (camera label `camera_label`) beside the first
+/// head's fixes labelled `first_fix_label`: "STAR_TRACKER_CAMERA2". Replay writes them so,
+/// live reads its further CStarTrackerSensor's so.
+std::string headFixLabel(const std::string& first_fix_label, const std::string& camera_label);
+
 /// A gyro sample of the rawlog contract: a CObservationIMU labelled `o.gyro_label`. The one
 /// test, for the navigator and for a caller that looks at a rawlog before replaying it.
 bool isGyroObservation(const mrpt::obs::CObservation& obs, const NavigatorOptions& o);

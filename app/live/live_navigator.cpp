@@ -11,6 +11,10 @@ LiveNavigator::LiveNavigator(const StarDatabase& db, const CameraModel& camera,
                              NavigatorOptions options, const std::string& csv_path)
     : nav_(db, camera, std::move(options), Navigator::Source::kStarTrackerFixes),
       report_(csv_path) {
+  const NavigatorOptions& o = nav_.options();
+  heads_.push_back({o.star_tracker_label, {}, {}});
+  for (const std::string& head : o.head_labels)
+    heads_.push_back({headFixLabel(o.star_tracker_label, head), {}, {}});
   // Each step is summarised and written as it finishes, then dropped: the navigator keeps
   // none (a one-hour run kept ~1 KB per frame of them, the memory growth of the soak).
   nav_.setKeepSteps(false);
@@ -40,9 +44,9 @@ void LiveNavigator::push(const std::vector<mrpt::obs::CObservation::Ptr>& batch)
       if (obs->sensorLabel == o.gyro_label && dynamic_cast<mrpt::obs::CObservationIMU*>(obs.get())) {
         newer(newest_gyro_);
         gyro_stalled_ = false;
-      } else if (obs->sensorLabel == o.star_tracker_label &&
-                 dynamic_cast<CObservationStarTracker*>(obs.get())) {
-        newer(newest_fix_);
+      } else if (const int h = headOfFix(obs->sensorLabel);
+                 h >= 0 && dynamic_cast<CObservationStarTracker*>(obs.get())) {
+        newer(heads_[static_cast<std::size_t>(h)].newest_fix);
       }
     }
   }
@@ -59,8 +63,10 @@ void LiveNavigator::start(std::optional<mrpt::Clock::time_point> first_frame) {
   std::optional<mrpt::Clock::time_point> origin = first_frame;
   for (const auto& obs : held) {
     const std::string& l = obs->sensorLabel;
-    const bool known = l == o.gyro_label || l == o.truth_label || l == o.camera_label ||
-                       l == o.star_tracker_label || (!o.velocity_label.empty() && l == o.velocity_label);
+    bool known = l == o.gyro_label || l == o.truth_label || l == o.camera_label ||
+                 l == o.star_tracker_label || (!o.velocity_label.empty() && l == o.velocity_label);
+    for (const std::string& head : o.head_labels)
+      known = known || l == head || l == headFixLabel(o.star_tracker_label, head);
     if (known && (!origin || obs->timestamp < *origin)) origin = obs->timestamp;
   }
   if (origin) nav_.setTimeOrigin(*origin);
@@ -78,12 +84,23 @@ bool LiveNavigator::earlierEventsIn(mrpt::Clock::time_point t) const {
   // The gyro delivers in time order: one sample at or after t means all up to t are in. No
   // gyro seen (none configured, or not started) or one that stalled: nothing to wait for.
   const bool gyro_in = !newest_gyro_ || gyro_stalled_ || *newest_gyro_ >= t;
-  // The tracker makes one fix per frame it asks for, in order.
-  const bool fix_in = !last_asked_ || (newest_fix_ && *newest_fix_ >= *last_asked_);
-  return gyro_in && fix_in;
+  // Each head's tracker makes one fix per frame it asks for, in order: its fix of the last
+  // frame it asked for before t must be in (a head's frame of t itself is not earlier).
+  for (const HeadSchedule& h : heads_) {
+    const bool fix_in = !h.last_asked || *h.last_asked >= t ||
+                        (h.newest_fix && *h.newest_fix >= *h.last_asked);
+    if (!fix_in) return false;
+  }
+  return gyro_in;
 }
 
-FrameInputs LiveNavigator::frameInputs(mrpt::Clock::time_point t) {
+int LiveNavigator::headOfFix(const std::string& label) const {
+  for (std::size_t h = 0; h < heads_.size(); ++h)
+    if (heads_[h].fix_label == label) return static_cast<int>(h);
+  return -1;
+}
+
+FrameInputs LiveNavigator::frameInputs(mrpt::Clock::time_point t, int head) {
   std::unique_lock<std::mutex> lock(m_);
   // The latency a fix may have in the loop anyway: waiting longer would only delay a frame
   // whose fix could no longer be used.
@@ -93,7 +110,8 @@ FrameInputs LiveNavigator::frameInputs(mrpt::Clock::time_point t) {
     ++stats_.off_schedule;
     if (!newest_gyro_ || *newest_gyro_ < t) gyro_stalled_ = true;
   }
-  last_asked_ = t;
+  if (head >= 0 && head < static_cast<int>(heads_.size()))
+    heads_[static_cast<std::size_t>(head)].last_asked = t;
   if (!started_) start(t);
   nav_.processBefore(t);
   return nav_.frameInputs(t);

@@ -43,8 +43,11 @@ class LiveNavigator {
   /// together: a waiting tracker never sees one without the other).
   void push(const std::vector<mrpt::obs::CObservation::Ptr>& batch);
   void flush();
-  /// The tracker's inputs for its frame at t, on replay's schedule (see the file comment).
-  FrameInputs frameInputs(mrpt::Clock::time_point t);
+  /// The inputs of camera head `head`'s tracker (0: the first; NavigatorOptions::
+  /// head_labels order) for its frame at t, on replay's schedule (see the file comment):
+  /// once every head's fix of an earlier frame it asked for is in. Heads asking for the
+  /// same time wait for none of each other's fixes of that time.
+  FrameInputs frameInputs(mrpt::Clock::time_point t, int head = 0);
   /// Ends every wait at once (the run is stopping and nothing more will come).
   void stopWaiting();
   /// The latest estimate (false before the first fix).
@@ -64,6 +67,8 @@ class LiveNavigator {
 
  private:
   bool earlierEventsIn(mrpt::Clock::time_point t) const;
+  /// The head whose fixes carry `label` (-1: none).
+  int headOfFix(const std::string& label) const;
   void start(std::optional<mrpt::Clock::time_point> first_frame);
 
   mutable std::mutex m_;
@@ -71,7 +76,12 @@ class LiveNavigator {
   Navigator nav_;
   Stats stats_;
   StepReport report_;  // summaries and CSV, made as the steps finish
-  std::optional<mrpt::Clock::time_point> newest_gyro_, newest_fix_, last_asked_;
+  std::optional<mrpt::Clock::time_point> newest_gyro_;
+  struct HeadSchedule {
+    std::string fix_label;
+    std::optional<mrpt::Clock::time_point> newest_fix, last_asked;
+  };
+  std::vector<HeadSchedule> heads_;  // one per camera head
   bool gyro_stalled_ = false, stopping_ = false;
   bool started_ = false;
   std::vector<mrpt::obs::CObservation::Ptr> before_start_;

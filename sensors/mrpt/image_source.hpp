@@ -5,6 +5,8 @@
 /// interface supplies the defaults the sensor's own keys and camera file leave open (a
 /// simulated camera knows its optics, noise and epoch; a real grabber knows none of them).
 #pragma once
+#include <mrpt/poses/CPose3D.h>
+
 #include <optional>
 
 #include "sensors/camera/camera_model.hpp"
@@ -20,6 +22,9 @@ struct ImageSourceFacts {
   std::optional<double> gain_e_per_adu;
   std::optional<double> read_noise_adu;
   std::optional<double> epoch_jyear;  ///< of the sky it shows
+  /// Its mounting on the body (body from camera), where the source knows it: a simulated
+  /// scenario's camera head.
+  std::optional<mrpt::poses::CPose3D> mount;
 };
 
 /// A sensor whose data ends (a scenario played to its end, a folder of frames): the live

@@ -43,7 +43,7 @@ struct TruthStar {
   Vec2 px = Vec2::Zero();  ///< [px] true image position at mid-exposure, in its head's image
   double mag = 0;          ///< V magnitude
   /// The camera head whose image holds it (0: the first; a scenario's head_sections order).
-  /// Encoded in the feature id's bits 24-30 (catalog ids are < 2^24), so that a one-head
+  /// Encoded in the feature id's bits 24-29 (catalog ids are < 2^24), so that a one-head
   /// rawlog's truth is what it always was.
   int head = 0;
 };

@@ -119,6 +119,7 @@ void CStarTrackerSensor::loadConfig_sensorSpecific(const mrpt::config::CConfigFi
   has_exposure_ = r.has(section, "exposure_s");
   has_gain_ = r.has(section, "gain_e_per_adu");
   has_read_noise_ = r.has(section, "read_noise_adu");
+  if (r.has(section, "mount_ypr_deg")) mount_ypr_deg_ = keys.mount_ypr_deg;
   opts_ = o;
 }
 
@@ -192,6 +193,13 @@ void CStarTrackerSensor::initialize() {
   if (!has_exposure_ && facts.exposure_s) t.exposure_s = *facts.exposure_s;
   if (!has_gain_ && facts.gain_e_per_adu) t.detect.gain_e_per_adu = *facts.gain_e_per_adu;
   if (!has_read_noise_ && facts.read_noise_adu) t.detect.read_noise_adu = *facts.read_noise_adu;
+  // The mounting: the section's, else what the source knows (a simulated head's).
+  if (mount_ypr_deg_) {
+    const Vec3 ypr = *mount_ypr_deg_ * kRadPerDeg;
+    o.sensor_pose = mrpt::poses::CPose3D(0, 0, 0, ypr.x(), ypr.y(), ypr.z());
+  } else if (facts.mount) {
+    o.sensor_pose = *facts.mount;
+  }
   opts_ = o;
 
   // Star database: a file, or built in memory for this camera.
@@ -274,6 +282,8 @@ void CStarTrackerSensor::doProcess() {
     }
     processFrame(*img, frame, out);
     if (emit_image_) {
+      // The frame carries the mounting the tracker used: replay mounts its tracker by it.
+      img->cameraPose = opts_.sensor_pose;
       if (!m_path_for_external_images.empty()) {
         char name[128];
         std::snprintf(name, sizeof(name), "%s_%06d.%s", img->sensorLabel.c_str(), image_counter_++,

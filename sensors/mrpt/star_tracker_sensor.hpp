@@ -20,6 +20,12 @@
 ///                 is stamped on its own clock, frame k at start + k / rate, instead of
 ///                 when the grabber reads it (MRPT's grabbers stamp the wall clock); the
 ///                 start's date is then the database's epoch unless epoch_jyear is set.
+///     simulated with several camera heads: scenario_head = N (the scenario's head N; its
+///                 frames carry that head's mounting as cameraPose).
+///   mount_ypr_deg = y p r         the camera's mounting on the body [deg], MRPT CPose3D yaw
+///                                 pitch roll of body-from-camera: the tracker's R_body_cam and
+///                                 the sensor pose of its observations (default: a simulated
+///                                 head's own mounting, else identity)
 ///   image_label   = CAMERA        label of the emitted frames
 ///   emit_image    = true          also emit the frames (external PNGs when the grabber sets
 ///                                 an external images path, as rawlog-grabber does)
@@ -148,6 +154,7 @@ class CStarTrackerSensor : public mrpt::hwdrivers::CGenericSensor, public Finite
   PipelineOptions opts_;
   // which pipeline/detector keys the .ini set (the rest default to the scenario's values)
   bool has_exposure_ = false, has_gain_ = false, has_read_noise_ = false;
+  std::optional<Vec3> mount_ypr_deg_;  // written in the section
   std::string scenario_file_;
 
   // runtime

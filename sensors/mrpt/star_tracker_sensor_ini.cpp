@@ -35,6 +35,11 @@ const SectionSchema<StarTrackerSensorKeys>& starTrackerSensorSchema() {
           .add("scenario_file", &K::scenario_file, "image_source = simulated: the scenario played")
           .add("seed", &K::seed, "image_source = simulated: run seed; empty = the scenario's")
           .add("truth_label", &K::truth_label, "image_source = simulated: label of the truth")
+          .add("scenario_head", &K::scenario_head,
+               "image_source = simulated: the scenario's camera head (head_sections order)")
+          .add("mount_ypr_deg", &K::mount_ypr_deg,
+               "[deg] yaw pitch roll (MRPT CPose3D) of body-from-camera: the tracker's mounting "
+               "and its observations' sensor pose (default: a simulated head's, else 0 0 0)")
           .add("database_file", &K::database_file, "a saved star database; empty = build one")
           .add("catalog_file", &K::catalog_file, "catalog of the build; empty = the default")
           .add("mag_limit", &K::mag_limit, "magnitude limit of the build")

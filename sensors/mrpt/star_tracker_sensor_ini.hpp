@@ -34,6 +34,8 @@ struct StarTrackerSensorKeys {
   std::string frame_start_time;  ///< UTC of frame 0; empty = the first frame's grabber stamp
   // simulated: CSimulatedStarCamera's keys, read by it from this section
   std::string scenario_file, seed, truth_label = "GROUND_TRUTH";
+  int scenario_head = 0;
+  Vec3 mount_ypr_deg = Vec3::Zero();
   // the star database
   std::string database_file, catalog_file;
   double mag_limit = 6.5;

@@ -7,7 +7,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <filesystem>
 
-#include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/progress.hpp"
 #include "sensors/sim/sim_observations.hpp"
@@ -92,9 +91,7 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
         sum.frames_dropped += h == 0;
         continue;
       }
-      const Vec3 ypr = head.mount_ypr_deg * kRadPerDeg;
-      auto cam = makeCameraObservation(f.image, sc.camera, stamp, head.label,
-                                       mrpt::poses::CPose3D(0, 0, 0, ypr.x(), ypr.y(), ypr.z()));
+      auto cam = makeCameraObservation(f.image, sc.camera, stamp, head.label, heads[h]->mount());
       if (opts.external_images) {
         std::snprintf(name, sizeof(name), "%s_%06d.png", head.label.c_str(), k);
         const std::string file_path = (fs::path(sum.images_dir) / name).string();

@@ -41,6 +41,7 @@
 /// the file, section and key, with the nearest valid key.
 #pragma once
 #include <mrpt/core/Clock.h>
+#include <mrpt/poses/CPose3D.h>
 
 #include <memory>
 #include <opencv2/core.hpp>
@@ -93,6 +94,8 @@ struct CameraHead {
   Vec3 mount_ypr_deg = Vec3::Zero();  ///< [deg] MRPT yaw pitch roll of body-from-camera
   Mat3 R_body_cam = Mat3::Identity();
   std::optional<FaultParams> faults;  ///< its camera faults (none: the scenario's `faults`)
+  /// The mounting as an MRPT pose (the cameraPose of its images).
+  mrpt::poses::CPose3D pose() const;
 };
 
 /// The [gyro] section: GyroParams plus the run's turn-on bias.
@@ -112,6 +115,8 @@ struct ScenarioIni {
   FaultParams faults;
   std::optional<CircularOrbit> orbit;
   std::vector<HeadKeys> heads;  ///< in head_sections order
+  /// Each head's camera faults as read from its faults_section (the scenario's when empty).
+  std::vector<FaultParams> head_faults;
 };
 ScenarioIni readScenarioIni(const IniReader& r);
 /// The effective scenario in ini form, every default filled in; reads back to `sc`.
@@ -228,6 +233,7 @@ class SkySimulator {
   SkySimulator(const Scenario& sc, uint64_t seed, std::shared_ptr<const StarSource> stars,
                int head = 0);
   const CameraHead& head() const { return head_; }
+  mrpt::poses::CPose3D mount() const { return head_.pose(); }
   /// The star source it renders (another head's simulator can share it).
   const std::shared_ptr<const StarSource>& stars() const { return stars_; }
 

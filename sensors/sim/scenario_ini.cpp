@@ -1,8 +1,8 @@
 // Reading and printing a scenario .ini through the section schemas (scenario.hpp lists the
 // sections): one strict reader for every section, and the effective configuration.
 #include <mrpt/config/CConfigFileBase.h>
-#include <mrpt/poses/CPose3D.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "common/conventions.hpp"
@@ -51,13 +51,6 @@ const SectionSchema<HeadKeys>& headKeysSchema() {
           .add("faults_section", &K::faults_section,
                "section of the head's camera faults (empty = the scenario's faults_section)");
   return schema;
-}
-
-Mat3 mountRotation(const Vec3& ypr_deg) {
-  return mrpt::poses::CPose3D(0, 0, 0, deg2rad(ypr_deg.x()), deg2rad(ypr_deg.y()),
-                              deg2rad(ypr_deg.z()))
-      .getRotationMatrix()
-      .asEigen();
 }
 
 const SectionSchema<ScenarioGyroKeys>& gyroKeysSchema() {
@@ -138,6 +131,9 @@ ScenarioIni readScenarioIni(const IniReader& r) {
     if (!h.faults_section.empty() && !r.cfg.sectionExists(h.faults_section))
       throw InputError(r.whereKey(sec, "faults_section") + " = '" + h.faults_section +
                        "': no section [" + h.faults_section + "]");
+    sc.head_faults.push_back(h.faults_section.empty()
+                                 ? sc.faults
+                                 : FaultParams::fromConfig(r, h.faults_section));
     sc.heads.push_back(h);
   }
   return sc;
@@ -160,8 +156,14 @@ std::string printScenarioIni(const ScenarioIni& sc) {
   if (sc.gyro) out += gyroKeysSchema().print(k.gyro_section, *sc.gyro) + "\n";
   out += faultParamsSchema().print(k.faults_section, sc.faults);
   if (sc.orbit) out += "\n" + orbitSchema().print(k.orbit_section, *sc.orbit);
-  for (std::size_t h = 0; h < sc.heads.size(); ++h)
+  std::vector<std::string> printed = {k.faults_section};
+  for (std::size_t h = 0; h < sc.heads.size(); ++h) {
     out += "\n" + headKeysSchema().print(k.head_sections[h], sc.heads[h]);
+    const std::string& fs = sc.heads[h].faults_section;
+    if (fs.empty() || std::find(printed.begin(), printed.end(), fs) != printed.end()) continue;
+    printed.push_back(fs);
+    out += "\n" + faultParamsSchema().print(fs, sc.head_faults[h]);
+  }
   return out;
 }
 
@@ -209,9 +211,8 @@ Scenario Scenario::fromConfig(const mrpt::config::CConfigFileBase& cfg, const st
       CameraHead head;
       head.label = hk.label;
       head.mount_ypr_deg = hk.mount_ypr_deg;
-      head.R_body_cam = mountRotation(hk.mount_ypr_deg);
-      if (!hk.faults_section.empty())
-        head.faults = FaultParams::fromConfig(r, hk.faults_section);
+      head.R_body_cam = head.pose().getRotationMatrix().asEigen();
+      if (!hk.faults_section.empty()) head.faults = ini.head_faults[h];
       sc.heads.push_back(head);
     }
   }

@@ -43,7 +43,10 @@ SimulatedSensorKeys readKeys(const IniReader& r, const std::string& section, boo
   } else {
     k.scenario_file = r.str(section, "scenario_file", "");
     k.seed = r.str(section, "seed", "");
-    k.truth_label = r.str(section, "truth_label", k.truth_label);
+    // Written empty means "no truth", as in the schema's own read (an absent key keeps the
+    // default).
+    if (r.exists(section, "truth_label")) k.truth_label = r.str(section, "truth_label", "");
+    if (camera) k.scenario_head = r.integer(section, "scenario_head", 0);
   }
   if (k.scenario_file.empty()) throw InputError(r.whereKey(section, "scenario_file") + ": missing key");
   if (!k.seed.empty()) r.uint64(section, "seed", 0);  // a bad seed fails here, naming the key
@@ -104,6 +107,10 @@ const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera) {
           cam ? "label of the truth emitted per frame; empty = none"
               : "label of the scenario's attitude truth at its frame times (for frames "
                 "from elsewhere: a folder rendered from the scenario); empty = none");
+    if (cam)
+      s.add("scenario_head", &K::scenario_head,
+            "which camera head of the scenario (its head_sections order, 0 = the first) this "
+            "camera is");
     if (!cam)
       s.add("velocity_label", &K::velocity_label,
             "label of the scenario's [orbit] velocity samples (CObservationIMU IMU_*_VEL); "
@@ -141,6 +148,11 @@ void CSimulatedStarCamera::loadConfig_sensorSpecific(const mrpt::config::CConfig
   scenario_file_ = resolveScenarioFile(cfg, k.scenario_file);
   seed_ = optionalSeed(r, section, k);
   truth_label_ = k.truth_label;
+  head_ = k.scenario_head;
+  const Scenario sc = Scenario::load(scenario_file_);
+  if (head_ < 0 || head_ >= static_cast<int>(sc.heads.size()))
+    throw InputError(r.whereKey(section, "scenario_head") + " = " + std::to_string(head_) +
+                     ": the scenario has " + std::to_string(sc.heads.size()) + " camera head(s)");
 }
 
 void CSimulatedStarCamera::setPathForExternalImages(const std::string& directory) {
@@ -152,7 +164,7 @@ void CSimulatedStarCamera::setPathForExternalImages(const std::string& directory
 void CSimulatedStarCamera::initialize() {
   m_state = ssInitializing;
   scenario_ = std::make_unique<Scenario>(Scenario::load(scenario_file_));
-  sim_ = std::make_unique<SkySimulator>(*scenario_, seed_.value_or(scenario_->seed));
+  sim_ = std::make_unique<SkySimulator>(*scenario_, seed_.value_or(scenario_->seed), head_);
   next_frame_ = 0;
   m_state = ssWorking;
 }
@@ -165,6 +177,7 @@ ImageSourceFacts CSimulatedStarCamera::facts() const {
   f.gain_e_per_adu = sc.sensor.gain();
   f.read_noise_adu = sc.sensor.read_noise_e / sc.sensor.gain();
   f.epoch_jyear = sc.epochJyear();
+  f.mount = sc.heads[static_cast<std::size_t>(head_)].pose();
   return f;
 }
 
@@ -189,7 +202,7 @@ void CSimulatedStarCamera::doProcess() {
   const auto stamp = sc.timestamp(f.stamp_t);  // the camera's clock (faults.hpp: jumps)
   std::vector<mrpt::serialization::CSerializable::Ptr> out;
   if (!f.dropped) {
-    auto obs = makeCameraObservation(f.image, sc.camera, stamp, m_sensorLabel);
+    auto obs = makeCameraObservation(f.image, sc.camera, stamp, m_sensorLabel, sim_->mount());
     if (!m_path_for_external_images.empty()) {
       char name[96];
       std::snprintf(name, sizeof(name), "%s_%06d.%s", m_sensorLabel.c_str(), f.index,
@@ -200,7 +213,12 @@ void CSimulatedStarCamera::doProcess() {
     out.push_back(obs);
     ++emitted_;
   }
-  if (!truth_label_.empty()) out.push_back(makeTruthObservation(f.q_ib, f.truth, stamp, truth_label_));
+  if (!truth_label_.empty()) {
+    FrameTruth truth;
+    truth.q_ib = f.q_ib;
+    for (const TrueStar& s : f.truth) truth.stars.push_back({s.id, s.px, s.mag, head_});
+    out.push_back(makeTruthObservation(truth, stamp, truth_label_));
+  }
   if (!out.empty()) appendObservations(out);
 }
 

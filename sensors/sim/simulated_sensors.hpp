@@ -20,6 +20,10 @@
 ///                                            its frame times, without stars, for frames that
 ///                                            come from elsewhere, e.g. a folder rendered
 ///                                            from the scenario played by a real grabber)
+///   scenario_head = 0                       (camera: which of the scenario's camera heads,
+///                                            head_sections order, it is: its label's frames
+///                                            carry that head's mounting as cameraPose, and
+///                                            the truth's stars that head index)
 ///   velocity_label = VELOCITY               (gyro: the scenario's [orbit] velocity samples,
 ///                                            the rawlog contract's VELOCITY, at its
 ///                                            velocity_rate_hz; empty = none)
@@ -52,6 +56,7 @@ struct SimulatedSensorKeys {
   std::string seed;  ///< empty = the scenario's seed
   std::string truth_label = "GROUND_TRUTH";  ///< the gyro's default is empty (no truth)
   std::string velocity_label = "VELOCITY";  ///< gyro only: the orbit's velocity samples
+  int scenario_head = 0;  ///< camera only: the scenario's camera head it renders
 };
 /// The schema for CSimulatedStarCamera (`camera`) or CSimulatedGyro.
 const SectionSchema<SimulatedSensorKeys>& simulatedSensorSchema(bool camera);
@@ -87,6 +92,7 @@ class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor, public Star
  private:
   std::string scenario_file_, truth_label_ = "GROUND_TRUTH";
   std::optional<uint64_t> seed_;
+  int head_ = 0;  // the scenario's camera head
   std::unique_ptr<Scenario> scenario_;
   std::unique_ptr<SkySimulator> sim_;
   int next_frame_ = 0, emitted_ = 0, skipped_ = 0;

@@ -19,6 +19,10 @@ namespace st {
 
 namespace {
 
+/// [px] A lost-in-space frame whose stars streak this far in its exposure is re-measured by
+/// tracking (remeasureAsTracking): below 2 px a streak is within a PSF's width of round.
+constexpr double kStreakedPx = 2.0;
+
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -286,9 +290,40 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     out.stars.push_back(s);
     learnt.add(o.px, r_i, centroidSigmaPx(det.stars[m.obs_index]));
   }
-  if (!found.healed) learnCamera(q_ic, std::move(learnt), out);
   fix.q_ic = canonical(q_ic);
   fix.cov_cam = res.cov_cam;
+  if (rate_cam && streakPx(*rate_cam) >= kStreakedPx &&
+      remeasureAsTracking(image, *rate_cam, out, fix))
+    return true;  // the tracking pass learnt the camera from its stars
+  if (!found.healed) learnCamera(q_ic, std::move(learnt), out);
+  return true;
+}
+
+double StarTracker::streakPx(const Vec3& rate_cam) const {
+  const Vec2 c(0.5 * (camera_.width() - 1), 0.5 * (camera_.height() - 1));
+  return (attitudeJacobian(camera_, camera_.pixelToVector(c)) * rate_cam * opts_.exposure_s).norm();
+}
+
+bool StarTracker::remeasureAsTracking(const cv::Mat& image, const Vec3& rate_cam, FrameResult& out,
+                                      CameraFix& fix) {
+  // The full-frame streak centroids' covariances are ~1.4x optimistic (measured by
+  // LostInSpaceCovariance.StreakedFixesErrorsMatchTheirSigma); tracking's windows measure
+  // every identified star along its predicted streak with a consistent covariance. So the
+  // verified lost-in-space attitude predicts this same frame and tracking measures it; its
+  // consistency test (chi2(3) against the lost-in-space fix) and residual test still apply,
+  // and a frame tracking cannot confirm keeps the lost-in-space fix.
+  const CameraPrediction pred{fix.q_ic, fix.cov_cam, rate_cam};
+  FrameResult tracked;
+  CameraFix tracked_fix;
+  tracked_fix.t_s = fix.t_s;
+  if (!track(image, pred, PredictionSource::kExternal, tracked, tracked_fix)) return false;
+  out.stars = std::move(tracked.stars);
+  out.timings.detect += tracked.timings.detect;
+  out.timings.identify += tracked.timings.identify;
+  out.timings.attitude += tracked.timings.attitude;
+  out.camera_updated = out.camera_updated || tracked.camera_updated;
+  fix.q_ic = tracked_fix.q_ic;
+  fix.cov_cam = tracked_fix.cov_cam;
   return true;
 }
 

@@ -108,6 +108,12 @@ class StarTracker {
                    CameraFix& fix);
   void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                         std::vector<Centroid>& stars);
+  /// [px] the streak length at the image centre for a camera-frame rate.
+  double streakPx(const Vec3& rate_cam) const;
+  /// A streaked lost-in-space fix measured again as tracking measures a frame, predicted by
+  /// itself; false (the fix kept) when tracking cannot confirm it.
+  bool remeasureAsTracking(const cv::Mat& image, const Vec3& rate_cam, FrameResult& out,
+                           CameraFix& fix);
   void setAttitude(FrameResult& out, const CameraFix& fix) const;
   /// A database star's direction as this frame's observer sees it (FrameInputs::
   /// observer_velocity_km_s; the database's own without one).

@@ -163,20 +163,23 @@ void expectReplayReproducesLive(const std::string& tag, const std::string& name,
 
   // Live's fixes are in its rawlog. Replay's output rawlog holds the input (live's fixes
   // among it) and replay's own STAR_TRACKER, each written when its step ends, after the
-  // input's observations of the same time: per time, the last one is replay's.
-  std::map<int64_t, CObservationStarTracker::Ptr> live, replay;
+  // input's observations of the same time: per time and head (label), the last one is
+  // replay's.
+  using Key = std::pair<std::string, int64_t>;
+  std::map<Key, CObservationStarTracker::Ptr> live, replay;
   for (const auto& o : readRawlog(rawlog))
     if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o))
-      live[f->timestamp.time_since_epoch().count()] = f;
+      live[{f->sensorLabel, f->timestamp.time_since_epoch().count()}] = f;
   for (const auto& o : readRawlog(dir + "/replay.rawlog"))
     if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o))
-      replay[f->timestamp.time_since_epoch().count()] = f;
+      replay[{f->sensorLabel, f->timestamp.time_since_epoch().count()}] = f;
   ASSERT_GE(live.size(), min_frames) << out;
   ASSERT_EQ(replay.size(), live.size()) << rout;
   int solved = 0;
   double worst = 0;
-  for (const auto& [stamp, l] : live) {
-    const auto it = replay.find(stamp);
+  for (const auto& [key, l] : live) {
+    const std::string stamp = key.first + " " + std::to_string(key.second);
+    const auto it = replay.find(key);
     ASSERT_NE(it, replay.end()) << "frame at tick " << stamp << " not replayed";
     const CObservationStarTracker& r = *it->second;
     ASSERT_NE(&r, l.get());
@@ -200,6 +203,22 @@ void expectReplayReproducesLive(const std::string& tag, const std::string& name,
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9) << q << " row " << i;
   }
+}
+
+// Two camera heads (rawlogs/live_two_heads.ini, issue 16 item 2): each head a
+// CStarTrackerSensor of its own, both asking the one loop, whose frames of one time make one
+// joint fix; the recording replays to the same fixes of both heads.
+TEST(Live, TwoHeadsMakeJointFixesAndReplayToTheSameFixes) {
+  std::string out;
+  expectReplayReproducesLive("live_two_heads", "live_two_heads.ini", 20, {}, &out);  // 2 Hz x 2
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex(R"(camera heads: 2, (\d+) frame steps; joint fixes (\d+))")))
+      << out;
+  EXPECT_GE(std::stoi(m[2]), 9) << out;
+  EXPECT_GE(std::stoi(m[2]), std::stoi(m[1]) - 2) << out;  // the first may be one head's
+  ASSERT_TRUE(std::regex_search(out, m, std::regex(R"(joint fixes vs GROUND_TRUTH.*roll RMS ([0-9.]+), total RMS ([0-9.]+))")))
+      << out;
+  EXPECT_LT(std::stod(m[1]), 2.0) << out;  // one head alone: ~8" (ReplayHeads)
 }
 
 TEST(Live, RecordingReplaysToTheSameFixes) {

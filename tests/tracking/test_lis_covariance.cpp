@@ -20,7 +20,7 @@
 namespace st {
 namespace {
 
-TEST(LostInSpaceCovariance, DISABLED_StreakedFixesErrorsMatchTheirSigma) {
+TEST(LostInSpaceCovariance, StreakedFixesErrorsMatchTheirSigma) {
   const int kFrames = 40;
   double sum_z2_roll = 0, sum_z2_cross = 0;
   int n = 0;
