@@ -38,6 +38,19 @@ FusionLoop::StarDirection starDirections(const StarDatabase& db) {
   };
 }
 
+/// A frame's outcome into a step or one head's part of it (NavStep, NavHead).
+template <class Step>
+void copyFrame(const FrameResult& r, Step& s) {
+  s.mode = r.mode;
+  s.failure = r.failure;
+  s.stars_matched = static_cast<int>(r.stars.size());
+  s.fix = r.hasAttitude();
+  if (s.fix) {
+    s.q_fix = r.q_ib;
+    s.cov_fix = r.cov_body;
+  }
+}
+
 bool samePose(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b) {
   return (a.getRotationMatrix().asEigen() - b.getRotationMatrix().asEigen()).norm() < 1e-9;
 }
@@ -289,15 +302,8 @@ void Navigator::onStep(const FusionStep& fs) {
     s.t = fs.t;
     s.has_frame = true;
     const FrameResult& r = *fs.frame;
-    s.mode = r.mode;
-    s.failure = r.failure;
+    copyFrame(r, s);
     s.reason = r.detail;
-    s.stars_matched = static_cast<int>(r.stars.size());
-    s.fix = r.hasAttitude();
-    if (s.fix) {
-      s.q_fix = r.q_ib;
-      s.cov_fix = r.cov_body;
-    }
     if (r.rate) {
       s.has_fix_rate = true;
       s.fix_rate = r.rate->rate_body;
@@ -329,17 +335,8 @@ void Navigator::onStep(const FusionStep& fs) {
         pending_obs_[h] = std::dynamic_pointer_cast<CObservationStarTracker>(held_.at(hf.tag));
       }
       if (h < s.heads.size()) {
-        NavHead& nh = s.heads[h];
-        const FrameResult& f = *hf.frame;
-        nh.R_body_cam = f.R_body_cam;
-        nh.mode = f.mode;
-        nh.failure = f.failure;
-        nh.stars_matched = static_cast<int>(f.stars.size());
-        nh.fix = f.hasAttitude();
-        if (nh.fix) {
-          nh.q_fix = f.q_ib;
-          nh.cov_fix = f.cov_body;
-        }
+        s.heads[h].R_body_cam = hf.frame->R_body_cam;
+        copyFrame(*hf.frame, s.heads[h]);
       }
       held_.erase(hf.tag);
       head_of_.erase(hf.tag);

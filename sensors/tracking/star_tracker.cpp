@@ -207,8 +207,9 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
   return out;
 }
 
-void StarTracker::measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
-                                   std::vector<Centroid>& stars) {
+std::optional<Vec3> StarTracker::measureStreaksOf(const cv::Mat& image,
+                                                  const std::optional<Vec3>& rate_cam,
+                                                  std::vector<Centroid>& stars) {
   if (rate_cam && opts_.exposure_s > 0) {
     measureStreaks(
         image,
@@ -217,9 +218,20 @@ void StarTracker::measureStreaksOf(const cv::Mat& image, const std::optional<Vec
                  opts_.exposure_s;
         },
         detector_, stars);
-  } else if (const auto blur = streakFromShapes(stars, opts_.detect)) {
-    measureStreaks(image, [&](const Vec2&) { return *blur; }, detector_, stars);
+    return rate_cam;
   }
+  const auto blur = streakFromShapes(stars, opts_.detect);
+  if (!blur) return std::nullopt;
+  measureStreaks(image, [&](const Vec2&) { return *blur; }, detector_, stars);
+  if (!(opts_.exposure_s > 0)) return std::nullopt;
+  // The cross-boresight rate that draws this streak at the centre (least norm: no roll; the
+  // streak's sign is unknown, and a streak's centroid does not depend on it).
+  const Mat23 J = attitudeJacobian(camera_, camera_.pixelToVector(imageCentre()));
+  return Vec3(J.transpose() * (J * J.transpose()).ldlt().solve(*blur) / opts_.exposure_s);
+}
+
+Vec2 StarTracker::imageCentre() const {
+  return Vec2(0.5 * (camera_.width() - 1), 0.5 * (camera_.height() - 1));
 }
 
 bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
@@ -227,7 +239,8 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
   const auto t0 = Clock::now();
   detector_.detect(image, det_);  // built once: no validation or allocation per frame
   DetectionResult& det = det_;
-  if (det.reason.empty()) measureStreaksOf(image, rate_cam, det.stars);
+  std::optional<Vec3> streak_rate;  // the gyro's rate, or one that draws the shapes' streak
+  if (det.reason.empty()) streak_rate = measureStreaksOf(image, rate_cam, det.stars);
   out.timings.detect = seconds(t0, Clock::now());
   out.num_blobs = det.blobs_found;
   if (!det.reason.empty()) {
@@ -292,16 +305,17 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
   }
   fix.q_ic = canonical(q_ic);
   fix.cov_cam = res.cov_cam;
-  if (rate_cam && streakPx(*rate_cam) >= kStreakedPx &&
-      remeasureAsTracking(image, *rate_cam, out, fix))
+  if (streak_rate && streakPx(*streak_rate) >= kStreakedPx &&
+      remeasureAsTracking(image, *streak_rate, out, fix))
     return true;  // the tracking pass learnt the camera from its stars
   if (!found.healed) learnCamera(q_ic, std::move(learnt), out);
   return true;
 }
 
 double StarTracker::streakPx(const Vec3& rate_cam) const {
-  const Vec2 c(0.5 * (camera_.width() - 1), 0.5 * (camera_.height() - 1));
-  return (attitudeJacobian(camera_, camera_.pixelToVector(c)) * rate_cam * opts_.exposure_s).norm();
+  return (attitudeJacobian(camera_, camera_.pixelToVector(imageCentre())) * rate_cam *
+          opts_.exposure_s)
+      .norm();
 }
 
 bool StarTracker::remeasureAsTracking(const cv::Mat& image, const Vec3& rate_cam, FrameResult& out,

@@ -106,8 +106,12 @@ class StarTracker {
                                       CameraFix& fix);
   bool lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam, FrameResult& out,
                    CameraFix& fix);
-  void measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
-                        std::vector<Centroid>& stars);
+  /// Re-measures full-frame streaks (detect/streaks.hpp) from the measured rate, else from
+  /// the blobs' shapes; returns the camera-frame rate that draws them (the measured one, or
+  /// the cross-boresight rate of the shapes' streak), nothing for round stars.
+  std::optional<Vec3> measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
+                                       std::vector<Centroid>& stars);
+  Vec2 imageCentre() const;
   /// [px] the streak length at the image centre for a camera-frame rate.
   double streakPx(const Vec3& rate_cam) const;
   /// A streaked lost-in-space fix measured again as tracking measures a frame, predicted by

@@ -49,16 +49,22 @@ std::string simulate(const std::string& dir, const std::string& scenario, const 
   return rawlog;
 }
 
-TEST(ReplayHeads, JointFixBeatsEitherHeadAndRollIsNoLongerTheWeakAxis) {
-  const std::string dir = test::makeTempDir("replay_heads");
-  const std::string rawlog = simulate(dir, "two_heads", "--frames 100");
-  const std::string csv = dir + "/steps.csv";
+/// Replays `rawlog` with rawlogs/two_heads_tracker.ini; its output (the CSV as dir/steps.csv).
+std::string replayTwoHeads(const std::string& dir, const std::string& rawlog) {
   std::string out;
-  ASSERT_EQ(test::runCommand(test::startrackerExe() + " replay -q " + rawlog + " --config " +
-                                 test::repoDir() + "/rawlogs/two_heads_tracker.ini --csv " + csv,
+  EXPECT_EQ(test::runCommand(test::startrackerExe() + " replay -q " + rawlog + " --config " +
+                                 test::repoDir() + "/rawlogs/two_heads_tracker.ini --csv " + dir +
+                                 "/steps.csv",
                              &out),
             0)
       << out;
+  return out;
+}
+
+TEST(ReplayHeads, JointFixBeatsEitherHeadAndRollIsNoLongerTheWeakAxis) {
+  const std::string dir = test::makeTempDir("replay_heads");
+  const std::string out = replayTwoHeads(dir, simulate(dir, "two_heads", "--frames 100"));
+  const std::string csv = dir + "/steps.csv";
   const HeadLine one = headLine(out, "head CAMERA ");
   const HeadLine two = headLine(out, "head CAMERA2 ");
   const HeadLine joint = headLine(out, "joint fixes vs GROUND_TRUTH");
@@ -92,14 +98,8 @@ TEST(ReplayHeads, JointFixBeatsEitherHeadAndRollIsNoLongerTheWeakAxis) {
 
 TEST(ReplayHeads, OneHeadBlindedForSixtySecondsKeepsTrackingOnTheOther) {
   const std::string dir = test::makeTempDir("replay_heads_blinded");
-  const std::string rawlog = simulate(dir, "two_heads_blinded", "");
+  const std::string out = replayTwoHeads(dir, simulate(dir, "two_heads_blinded", ""));
   const std::string csv = dir + "/steps.csv";
-  std::string out;
-  ASSERT_EQ(test::runCommand(test::startrackerExe() + " replay -q " + rawlog + " --config " +
-                                 test::repoDir() + "/rawlogs/two_heads_tracker.ini --csv " + csv,
-                             &out),
-            0)
-      << out;
   int blinded = 0, blinded_one_head = 0, blinded_accepted = 0, after = 0, after_merged = 0;
   for (const auto& row : test::readCsvRows(csv)) {
     const double t = std::stod(row.at("t_s"));

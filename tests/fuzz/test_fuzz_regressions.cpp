@@ -150,3 +150,23 @@ TEST(FuzzRegressions, CameraYamlWithASingleBangTagIsRefusedBeforeOpenCvLoopsOnIt
 
 }  // namespace
 }  // namespace st
+
+namespace st {
+namespace {
+
+// A damaged inline JPEG image in a rawlog's CImage: MRPT decodes it with libjpeg's default
+// error manager, whose error_exit called exit(1) after one line of libjpeg's ("Not a JPEG
+// file: starts with 0x00 0x00"): replay ended with no word of the file or object. With
+// sensors/mrpt/jpeg_errors.hpp the failure is an exception, reported as damage: exit 2 here
+// (object 0, nothing readable before it), naming the file and the object.
+TEST(FuzzRegressions, DamagedInlineJpegIsReportedAsDamageNotExit) {
+  const std::string path = writeFile(
+      "jpeg.rawlog", readBytes(reproducer("rawlog", "cimage_jpeg_libjpeg_exit")));
+  const test::CliRun r = test::runCli("replay '" + path + "'");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("rawlog '" + path + "', object 0"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("truncated or not a rawlog"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace st
