@@ -149,10 +149,16 @@ void CSimulatedStarCamera::loadConfig_sensorSpecific(const mrpt::config::CConfig
   seed_ = optionalSeed(r, section, k);
   truth_label_ = k.truth_label;
   head_ = k.scenario_head;
-  const Scenario sc = Scenario::load(scenario_file_);
+  head_key_ = r.whereKey(section, "scenario_head");
+}
+
+const CameraHead& CSimulatedStarCamera::head(const Scenario& sc) const {
+  // Checked where the scenario is read (initialize, facts): a bad scenario value is reported
+  // there with its own file, section and key.
   if (head_ < 0 || head_ >= static_cast<int>(sc.heads.size()))
-    throw InputError(r.whereKey(section, "scenario_head") + " = " + std::to_string(head_) +
-                     ": the scenario has " + std::to_string(sc.heads.size()) + " camera head(s)");
+    throw InputError(head_key_ + " = " + std::to_string(head_) + ": the scenario has " +
+                     std::to_string(sc.heads.size()) + " camera head(s)");
+  return sc.heads[static_cast<std::size_t>(head_)];
 }
 
 void CSimulatedStarCamera::setPathForExternalImages(const std::string& directory) {
@@ -164,6 +170,7 @@ void CSimulatedStarCamera::setPathForExternalImages(const std::string& directory
 void CSimulatedStarCamera::initialize() {
   m_state = ssInitializing;
   scenario_ = std::make_unique<Scenario>(Scenario::load(scenario_file_));
+  head(*scenario_);
   sim_ = std::make_unique<SkySimulator>(*scenario_, seed_.value_or(scenario_->seed), head_);
   next_frame_ = 0;
   m_state = ssWorking;
@@ -177,7 +184,7 @@ ImageSourceFacts CSimulatedStarCamera::facts() const {
   f.gain_e_per_adu = sc.sensor.gain();
   f.read_noise_adu = sc.sensor.read_noise_e / sc.sensor.gain();
   f.epoch_jyear = sc.epochJyear();
-  f.mount = sc.heads[static_cast<std::size_t>(head_)].pose();
+  f.mount = head(sc).pose();
   return f;
 }
 

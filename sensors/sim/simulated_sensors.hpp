@@ -69,6 +69,7 @@ class SkySimulator;
 class GyroStream;
 class VelocityStream;
 struct Scenario;
+struct CameraHead;
 
 class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor, public StarImageSource {
   DEFINE_GENERIC_SENSOR(CSimulatedStarCamera)
@@ -93,6 +94,8 @@ class CSimulatedStarCamera : public mrpt::hwdrivers::CGenericSensor, public Star
   std::string scenario_file_, truth_label_ = "GROUND_TRUTH";
   std::optional<uint64_t> seed_;
   int head_ = 0;  // the scenario's camera head
+  std::string head_key_;  // where scenario_head is written, for its error
+  const CameraHead& head(const Scenario& sc) const;
   std::unique_ptr<Scenario> scenario_;
   std::unique_ptr<SkySimulator> sim_;
   int next_frame_ = 0, emitted_ = 0, skipped_ = 0;
