@@ -79,11 +79,11 @@ mutant handedness-liebe sensors/identify/liebe.cpp \
   $ID 'IdentifyRules.Mirrored*' \
   "seed 003: Liebe's feature orientation (mirror images rejected)"
 mutant magnitude-tiebreak sensors/identify/few_stars.cpp \
-  's/ > chi2_max\) return false;/ > 1e300) return false;/' \
+  's/ > chi2_max\) return false;/ > 1e300 * chi2_max) return false;/' \
   $ID 'MagnitudeTieBreak.*' \
   "seed 000: 2-3 star fields, catalog patterns kept only when the magnitude differences agree"
 mutant magnitude-absent-star sensors/identify/few_stars.cpp \
-  's/if \(!absent\) survivors.push_back\(c\);/survivors.push_back(c);/' \
+  's/if \(!absent\) survivors.push_back\(c\);/if (!absent || true) survivors.push_back(c);/' \
   $ID 'MagnitudeTieBreak.*' \
   "2-3 star fields: a hypothesis predicting an unseen star brighter than a seen one is dropped"
 mutant photometry-clipping sensors/identify/photometry.cpp \
