@@ -162,11 +162,11 @@ class FewStars : public Experiment {
     side.table.rows = {
         {"attitudes with >= 3 stars", pct(kPaperAtLeast3), pct(ge3 / N), ci(ge3)},
         {"attitudes with >= 4 stars", pct(kPaperAtLeast4), pct(ge4 / N), ci(ge4)},
-        {"solved, Pyramid alone (needs 4)", "-", pct(all.off / N), ci(all.off)},
-        {"solved, with the magnitude tie-break", "(>= 3 stars: 72)", pct(all.on / N), ci(all.on)},
-        {"wrong attitudes, tie-break (count)", "0", std::to_string(all.wrong_on),
+        {"solved by Pyramid alone (needs 4)", "-", pct(all.off / N), ci(all.off)},
+        {"solved with the magnitude tie-break", "(>= 3 stars: 72)", pct(all.on / N), ci(all.on)},
+        {"wrong attitudes with the tie-break (count)", "0", std::to_string(all.wrong_on),
          "<= " + pct(wilson95(all.wrong_on, all.n).hi)},
-        {"wrong attitudes, Pyramid alone (count)", "0", std::to_string(all.wrong_off),
+        {"wrong attitudes of Pyramid alone (count)", "0", std::to_string(all.wrong_off),
          "<= " + pct(wilson95(all.wrong_off, all.n).hi)},
     };
     rep.tables.push_back(side);

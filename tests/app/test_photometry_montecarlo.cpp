@@ -45,7 +45,9 @@ TEST(FewStarsMontecarlo, SeedZeroCameraSolvesEveryFieldOfThreeOrMoreStarsAndNone
     n3 += n == 3;
     on3 += n == 3 && t[k][c_on] == "1";
     on_below3 += n < 3 && t[k][c_on] == "1";
-    if (n < 4) EXPECT_NE(t[k][c_off], "1") << "trial " << k;  // Pyramid alone: >= 4 stars
+    if (n < 4) {
+      EXPECT_NE(t[k][c_off], "1") << "trial " << k;  // Pyramid alone: >= 4 stars
+    }
   }
   const double N = 500;
   EXPECT_NEAR(ge3 / N, 0.72, 3 * std::sqrt(0.72 * 0.28 / N));
