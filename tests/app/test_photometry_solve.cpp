@@ -4,6 +4,9 @@
 // the clipped ones.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "tests/app/solve_cli_util.hpp"
 
 namespace st::test {
@@ -33,6 +36,33 @@ TEST(SolvePhotometry, JsonHasZeroPointColourTermAndPerStarMagnitudes) {
   }
   EXPECT_EQ(used, p.at("stars_used").get<int>());
   EXPECT_GE(used, 30);
+}
+
+// The tie-break's key (sensors/mrpt/pipeline_ini.cpp, strict schema): printed with its value,
+// a negative value is bad input naming the key (exit 2).
+TEST(SolvePhotometry, LisMagnitudeSigmaKeyIsReadStrictly) {
+  const std::string dir = makeTempDir("phot_ini");
+  std::ifstream in(repoDir() + "/rawlogs/tracker.ini");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string ini = ss.str();
+  const auto at = ini.find("[pipeline]\n");
+  ASSERT_NE(at, std::string::npos);
+  const auto write = [&](const std::string& value) {
+    std::string t = ini;
+    t.insert(at + 11, "lis_magnitude_sigma = " + value + "\n");
+    std::ofstream(dir + "/t.ini") << t;
+    std::string out;
+    const int rc = runCommand(startrackerExe() + " config " + dir + "/t.ini 2>&1", &out);
+    return std::make_pair(rc, out);
+  };
+  const auto good = write("0.13");
+  EXPECT_EQ(good.first, 0) << good.second;
+  EXPECT_NE(good.second.find("lis_magnitude_sigma = 0.13"), std::string::npos) << good.second;
+  const auto bad = write("-0.5");
+  EXPECT_EQ(bad.first, 2) << bad.second;
+  EXPECT_NE(bad.second.find("lis_magnitude_sigma"), std::string::npos) << bad.second;
+  EXPECT_NE(bad.second.find("-0.5"), std::string::npos) << bad.second;
 }
 
 }  // namespace
