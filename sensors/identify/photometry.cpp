@@ -185,8 +185,8 @@ PhotometryFit fitPhotometry(const std::vector<PhotometryStar>& stars,
       const double xo = offAxisRegressor(s.off_axis);
       int col = 0;
       X(k, col++) = 1.0;
-      if (colour) X(k, col++) = bvOf(s);
-      if (fit_n) X(k, col++) = xo;
+      if (colour) X(k, col++) = bvOf(s);  // seed 003 "Correction to CCD-Sensitivity"
+      if (fit_n) X(k, col++) = xo;        // seed 003: rim stars transmitted less (cos^n)
       y[k] = s.catalog_v - s.m_inst - (fit_n ? 0.0 : o.off_axis_exponent * xo);
     }
     return fitClipped(X, y, o.clip_sigma, o.max_iterations);
