@@ -112,7 +112,8 @@ class FewStars : public Experiment {
 
   Report summarise(const McOptions& o, const Table& t) const override {
     Report rep;
-    rep.title = "Lost-in-space with two or three stars: the magnitude tie-break (seed 000's camera)";
+    rep.title =
+        "Lost-in-space with two or three stars: the magnitude tie-break (seed 000's camera)";
     rep.notes.push_back(
         "Database stars V <= " + fmt(o.mag_limit, 3) + " through a " + std::to_string(o.width) +
         "x" + std::to_string(o.height) + " px camera of " + fmt(o.fov_deg, 4) +
@@ -157,7 +158,8 @@ class FewStars : public Experiment {
     };
     ReportTable side;
     side.name = "paper_vs_ours";
-    side.caption = "Seed 000's camera: paper (issue 17) vs ours, " + std::to_string(all.n) + " trials";
+    side.caption =
+        "Seed 000's camera: paper (issue 17) vs ours, " + std::to_string(all.n) + " trials";
     side.table.columns = {"quantity", "paper", "ours_%", "ours_ci95_%"};
     side.table.rows = {
         {"attitudes with >= 3 stars", pct(kPaperAtLeast3), pct(ge3 / N), ci(ge3)},

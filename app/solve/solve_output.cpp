@@ -70,7 +70,9 @@ Photometry photometry(const SolveReport& r) {
 }
 
 /// null for NaN (JSON has no NaN).
-nlohmann::ordered_json number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
+nlohmann::ordered_json number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
+}
 
 nlohmann::ordered_json photometryJson(const Photometry& p) {
   const PhotometryFit& f = p.fit;
@@ -214,8 +216,8 @@ void printSolutionText(const SolveReport& r) {
   if (pf.ok)
     std::printf("photometry V = m_inst + %.3f (+-%.3f) %s, off-axis cos^%.2f%s; scatter %.3f mag "
                 "over %d stars (%d clipped); m_inst for t = 1 s\n",
-                pf.zero_point, pf.zero_point_se, colour, pf.off_axis_exponent, pf.off_axis_fitted ? " (fitted)" : " (fixed)", pf.scatter,
-                pf.used, pf.clipped);
+                pf.zero_point, pf.zero_point_se, colour, pf.off_axis_exponent,
+                pf.off_axis_fitted ? " (fitted)" : " (fixed)", pf.scatter, pf.used, pf.clipped);
   else
     std::printf("photometry not fitted: %s\n", pf.reason.c_str());
   std::printf("\n  %8s %9s %9s %6s %6s %6s %9s %7s\n", idLabel(r).c_str(), "x [px]", "y [px]", "V",

@@ -93,7 +93,8 @@ FewStarOutcome identifyFewStars(SearchContext& ctx, const WahbaSolver& solver) {
   std::vector<Candidate> survivors;
   for (const Candidate& c : kept) {
     double faintest = -1e9;
-    for (int s = 0; s < n; ++s) faintest = std::max<double>(faintest, ctx.db.stars()[c.star[s]].mag);
+    for (int s = 0; s < n; ++s)
+      faintest = std::max<double>(faintest, ctx.db.stars()[c.star[s]].mag);
     const Mat3 R_ib = c.sol.q_ib.toRotationMatrix();
     ctx.db.coneQuery(R_ib.col(2), cam.halfDiagonalFov(), cone);
     bool absent = false;

@@ -202,7 +202,9 @@ IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
     res.status = IdentifyStatus::TooFewStars;
     res.reason = std::to_string(obs.size()) + " stars observed, " + name() + " needs at least " +
                  std::to_string(starsNeeded()) +
-                 (n_obs >= 2 && n_obs <= 3 ? " (2 or 3 stars: the magnitude tie-break, magnitude_sigma > 0)" : "");
+                 (n_obs >= 2 && n_obs <= 3
+                      ? " (2 or 3 stars: the magnitude tie-break, magnitude_sigma > 0)"
+                      : "");
     return finish();
   }
   for (auto& l : sc.lists) l.reset(db.stars().size());

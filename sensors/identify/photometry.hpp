@@ -14,8 +14,8 @@
 ///
 /// Fit: least squares with iterative clipping, started from the median with a cut at
 /// `clip_sigma` robust sigmas (1.4826 x the median absolute deviation), then at `clip_sigma`
-/// standard deviations of the kept residuals (clipped stars may come back) until stable. The colour term is fitted only with
-/// enough stars of known B-V spanning a colour range; the exponent n only when its standard
+/// standard deviations of the kept residuals (clipped stars may come back) until stable.
+/// The colour term is fitted only with enough stars of known B-V spanning a colour range; the exponent n only when its standard
 /// error is below max_exponent_se (a narrow field cannot tell cos^4 from cos^0: 2.5 log10
 /// cos 7 deg = -0.008 mag), else it is fixed at `off_axis_exponent`.
 #pragma once

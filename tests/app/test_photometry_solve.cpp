@@ -13,7 +13,8 @@ namespace st::test {
 namespace {
 
 TEST(SolvePhotometry, JsonHasZeroPointColourTermAndPerStarMagnitudes) {
-  const SolveRun r = solveJson("--fov-deg 11.4 " + shellQuote(tetra3Frame("2019-07-29T204726_Alt40_Azi45_Try1")));
+  const SolveRun r =
+      solveJson("--fov-deg 11.4 " + shellQuote(tetra3Frame("2019-07-29T204726_Alt40_Azi45_Try1")));
   ASSERT_EQ(r.rc, 0) << r.stdout_text;
   const auto& p = r.json.at("photometry");
   ASSERT_TRUE(p.at("fitted").get<bool>()) << p.dump();
