@@ -78,6 +78,18 @@ mutant handedness-liebe sensors/identify/liebe.cpp \
   's/if \(\(so > 0\) != \(sc > 0\)\) continue;/(void)so, (void)sc;/' \
   $ID 'IdentifyRules.Mirrored*' \
   "seed 003: Liebe's feature orientation (mirror images rejected)"
+mutant magnitude-tiebreak sensors/identify/few_stars.cpp \
+  's/ > chi2_max\) return false;/ > 1e300 * chi2_max) return false;/' \
+  $ID 'MagnitudeTieBreak.*' \
+  "seed 000: 2-3 star fields, catalog patterns kept only when the magnitude differences agree"
+mutant magnitude-absent-star sensors/identify/few_stars.cpp \
+  's/if \(!absent\) survivors.push_back\(c\);/if (!absent || true) survivors.push_back(c);/' \
+  $ID 'MagnitudeTieBreak.*' \
+  "2-3 star fields: a hypothesis predicting an unseen star brighter than a seen one is dropped"
+mutant photometry-clipping sensors/identify/photometry.cpp \
+  's/next\[i\] = std::abs\(r\[i\]\) <= lim;/next[i] = std::abs(r[i]) <= lim || true;/' \
+  $ID 'Photometry.*' \
+  "photometry: iteratively clipped least squares (outliers not followed)"
 TR=st_test_tracking
 mutant recursive-gate sensors/identify/recursive_id.cpp \
   's/if \(!\(d2 <= gate2\)\) continue;/(void)gate2;/' \
@@ -214,7 +226,11 @@ for i in "${!NAMES[@]}"; do
   result=""
   if ! cmake --build "$BLD" -j"$JOBS" --target $targets >"$BLD/mutant-build.log" 2>&1; then
     cp "$BLD/mutant.orig" "$SRC/$file"
-    echo "$name: the mutant does not compile (see $BLD/mutant-build.log)"; exit 1
+    echo "$name: the mutant does not compile (see $BLD/mutant-build.log)"
+    # Rebuild unmutated: the next run's copy keeps the file's older mtime, and make would
+    # keep an object of an earlier, compiled mutant.
+    cmake --build "$BLD" -j"$JOBS" --target $targets >/dev/null 2>&1 || true
+    exit 1
   fi
   exe="$(testExe "$targets")"
   (cd "$BLD/tests" && "$exe" --gtest_filter="$filter" >"$BLD/mutant-$name.log" 2>&1) || true

@@ -13,5 +13,6 @@ std::unique_ptr<Experiment> makeLisRobustness();
 std::unique_ptr<Experiment> makeErrorVsStars();
 std::unique_ptr<Experiment> makeTiming();
 std::unique_ptr<Experiment> makeCentroidDefocus();
+std::unique_ptr<Experiment> makeFewStars();
 
 }  // namespace st::app::mc

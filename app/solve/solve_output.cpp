@@ -2,12 +2,16 @@
 
 #include "app/cli/json_error.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <map>
+#include <mutex>
 
 #include "app/annotate.hpp"
 #include "app/solve/camera_report.hpp"
 #include "common/log.hpp"
 #include "common/conventions.hpp"
+#include "sensors/identify/photometry.hpp"
 
 namespace st::app {
 
@@ -26,16 +30,85 @@ std::string idLabel(const SolveReport& r) { return catalogIdLabel(r.db.report().
 /// not where the star is in the image).
 const Vec2& inputPixel(const SolveReport& r, const StarMatch& m) { return r.in.stars[m.obs_index].px; }
 
-nlohmann::ordered_json starsJson(const SolveReport& r) {
+/// B-V by catalog id from the catalog the database was built from (the database keeps only
+/// V), read once per path; empty when that file cannot be read (a database built elsewhere).
+const std::map<uint32_t, double>& colourIndex(const std::string& catalog_path) {
+  static std::mutex mutex;
+  static std::map<std::string, std::map<uint32_t, double>> by_path;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto it = by_path.find(catalog_path);
+  if (it != by_path.end()) return it->second;
+  std::map<uint32_t, double>& m = by_path[catalog_path];
+  try {
+    for (const CatalogEntry& e : loadCatalog(catalog_path).entries)
+      if (std::isfinite(e.bv)) m[e.id] = e.bv;
+  } catch (const std::exception& e) {
+    log::info("photometry: no B-V colours (%s): no colour term", e.what());
+  }
+  return m;
+}
+
+struct Photometry {
+  std::vector<PhotometryStar> stars;
+  PhotometryFit fit;
+};
+
+/// The exposure of an input is not known to solve: 1 s, so the zero point holds it
+/// (ZP = ZP_1s + 2.5 log10 t for a frame of exposure t).
+constexpr double kAssumedExposureS = 1.0;
+
+Photometry photometry(const SolveReport& r) {
+  const auto& bv = colourIndex(r.db.report().catalog_path);
+  Photometry p;
+  p.stars = photometryStars(r.in.stars, r.ps.search.obs, r.ps.search.result.matches, r.db,
+                            kAssumedExposureS, [&bv](uint32_t id) {
+                              const auto it = bv.find(id);
+                              return it == bv.end() ? std::nan("") : it->second;
+                            });
+  p.fit = fitPhotometry(p.stars);
+  return p;
+}
+
+/// null for NaN (JSON has no NaN).
+nlohmann::ordered_json number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr;
+}
+
+nlohmann::ordered_json photometryJson(const Photometry& p) {
+  const PhotometryFit& f = p.fit;
+  if (!f.ok) return {{"fitted", false}, {"reason", f.reason}};
+  return {{"fitted", true},
+          {"exposure_s", kAssumedExposureS},
+          {"zero_point", f.zero_point},
+          {"zero_point_se", f.zero_point_se},
+          {"colour_term", f.colour_fitted ? number(f.colour_term) : nullptr},
+          {"colour_term_se", f.colour_fitted ? number(f.colour_term_se) : nullptr},
+          {"off_axis_exponent", f.off_axis_exponent},
+          {"off_axis_exponent_fitted", f.off_axis_fitted},
+          {"off_axis_exponent_se", f.off_axis_fitted ? number(f.off_axis_se) : nullptr},
+          {"scatter_mag", f.scatter},
+          {"robust_sigma_mag", f.robust_sigma},
+          {"stars_used", f.used},
+          {"stars_clipped", f.clipped}};
+}
+
+nlohmann::ordered_json starsJson(const SolveReport& r, const Photometry& p) {
   nlohmann::ordered_json stars = nlohmann::ordered_json::array();
   const std::string label = idLabel(r);
-  for (const StarMatch& m : r.ps.search.result.matches) {
+  const auto& matches = r.ps.search.result.matches;
+  for (std::size_t k = 0; k < matches.size(); ++k) {
+    const StarMatch& m = matches[k];
     const Vec2& px = inputPixel(r, m);
     stars.push_back({{"id", m.catalog_id},
                      {"name", label + " " + std::to_string(m.catalog_id)},
                      {"x", px.x()},
                      {"y", px.y()},
                      {"mag", r.db.stars()[m.star_index].mag},
+                     {"bv", number(p.stars[k].bv)},
+                     {"mag_inst", number(p.stars[k].m_inst)},
+                     {"mag_fitted", number(p.fit.fitted[k])},
+                     {"mag_residual", number(p.fit.residual[k])},
+                     {"photometry_used", bool(p.fit.kept[k])},
                      {"residual_arcsec", rad2arcsec(m.residual)},
                      {"residual_px", m.residual_px}});
   }
@@ -71,7 +144,9 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
   const Vec3 v = r.frame.velocity(r.epoch.jyear);
   j["aberration_velocity_km_s"] = {v.x(), v.y(), v.z()};
   j["camera"] = cameraJson(r);
-  j["stars"] = starsJson(r);
+  const Photometry phot = photometry(r);
+  j["photometry"] = photometryJson(phot);
+  j["stars"] = starsJson(r, phot);
   j["timing_ms"] = {{"load", r.ms.load},         {"detect", r.ms.detect},
                     {"database", r.ms.database}, {"identify", r.ms.identify},
                     {"pattern", res.timing.pattern_ms}, {"verify", res.timing.verify_ms},
@@ -133,12 +208,26 @@ void printSolutionText(const SolveReport& r) {
               rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll));
   std::printf("residual   RMS %.2f arcsec = %.3f px over %zu stars\n", rad2arcsec(res.rms_residual),
               res.rms_residual_px, res.matches.size());
-  std::printf("\n  %8s %9s %9s %6s %9s %7s\n", idLabel(r).c_str(), "x [px]", "y [px]", "V",
-              "res [\"]", "res[px]");
-  for (const StarMatch& m : res.matches) {
+  const Photometry phot = photometry(r);
+  const PhotometryFit& pf = phot.fit;
+  char colour[64] = "(no colour term)";
+  if (pf.colour_fitted)
+    std::snprintf(colour, sizeof colour, "%+.3f (+-%.3f) (B-V)", pf.colour_term, pf.colour_term_se);
+  if (pf.ok)
+    std::printf("photometry V = m_inst + %.3f (+-%.3f) %s, off-axis cos^%.2f%s; scatter %.3f mag "
+                "over %d stars (%d clipped); m_inst for t = 1 s\n",
+                pf.zero_point, pf.zero_point_se, colour, pf.off_axis_exponent,
+                pf.off_axis_fitted ? " (fitted)" : " (fixed)", pf.scatter, pf.used, pf.clipped);
+  else
+    std::printf("photometry not fitted: %s\n", pf.reason.c_str());
+  std::printf("\n  %8s %9s %9s %6s %6s %6s %9s %7s\n", idLabel(r).c_str(), "x [px]", "y [px]", "V",
+              "V fit", "dV", "res [\"]", "res[px]");
+  for (std::size_t k = 0; k < res.matches.size(); ++k) {
+    const StarMatch& m = res.matches[k];
     const Vec2& px = inputPixel(r, m);
-    std::printf("  %8u %9.2f %9.2f %6.2f %9.2f %7.3f\n", m.catalog_id, px.x(), px.y(),
-                r.db.stars()[m.star_index].mag, rad2arcsec(m.residual), m.residual_px);
+    std::printf("  %8u %9.2f %9.2f %6.2f %6.2f %6.2f %9.2f %7.3f\n", m.catalog_id, px.x(), px.y(),
+                r.db.stars()[m.star_index].mag, pf.fitted[k], pf.residual[k],
+                rad2arcsec(m.residual), m.residual_px);
   }
   std::printf("\ntiming [ms]  load %.2f  detect %.2f  database %.2f  identify %.2f "
               "(pattern %.2f, verify %.2f)  total %.2f\n",

@@ -11,8 +11,15 @@
 ///    "frame": "apparent" | "astrometric" (celestial_frame.hpp), "aberration_velocity_km_s"
 ///    [x, y, z] (ICRS axes; the observer's velocity the apparent frame is for, zero for
 ///    astrometric),
-///    "stars": [{"id", "name" (e.g. "HR 5340"), "x", "y", "mag", "residual_arcsec",
-///    "residual_px"}] (x, y in the input's pixels, also for a flipped image), "timing_ms":
+///    "photometry": {"fitted", "exposure_s" (1: unknown to solve, the zero point holds it),
+///    "zero_point", "zero_point_se", "colour_term", "colour_term_se" (null when not fitted),
+///    "off_axis_exponent", "off_axis_exponent_fitted", "off_axis_exponent_se", "scatter_mag",
+///    "robust_sigma_mag", "stars_used", "stars_clipped"} (or {"fitted": false, "reason"};
+///    sensors/identify/photometry.hpp),
+///    "stars": [{"id", "name" (e.g. "HR 5340"), "x", "y", "mag" (catalog V), "bv" (B-V or
+///    null), "mag_inst", "mag_fitted", "mag_residual" (V - fitted), "photometry_used",
+///    "residual_arcsec", "residual_px"}] (x, y in the input's pixels, also for a flipped
+///    image), "timing_ms":
 ///    {"load", "detect", "database", "identify", "pattern", "verify", "total"}};
 ///  - not solved (exit 1): {"solved": false, "status" (IdentifyStatus or "error"),
 ///    "reason", "image", "stars_detected", "parities_tried", "cpu_limit_reached",

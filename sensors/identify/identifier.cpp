@@ -6,6 +6,7 @@
 
 #include "common/check.hpp"
 #include "common/conventions.hpp"
+#include "sensors/identify/few_stars.hpp"
 #include "sensors/identify/search_context.hpp"
 
 namespace st {
@@ -138,6 +139,8 @@ bool IdentifyOptions::isValid(std::string* why) const {
     bad("max_verifications", max_verifications, "must be >= 1");
   else if (max_candidates < 1)
     bad("max_candidates", static_cast<double>(max_candidates), "must be >= 1");
+  else if (!(magnitude_sigma >= 0 && std::isfinite(magnitude_sigma)))
+    bad("magnitude_sigma", magnitude_sigma, "must be >= 0 (0 = no magnitude tie-break)");
   else if (!WahbaSolver::create(solver, &inner))
     e << "IdentifyOptions.solver: " << inner;
   else if (!verify.isValid(&inner))
@@ -176,10 +179,32 @@ IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
   Scratch& sc = *scratch_;
   const int n = std::min<int>(static_cast<int>(obs.size()), std::max(3, options_.max_stars));
   res.stars_used = n;
-  if (n < minStars() || static_cast<int>(obs.size()) < options_.verify.min_matches) {
+  const int n_obs = static_cast<int>(obs.size());
+  if (options_.magnitude_sigma > 0 && n_obs >= 2 && n_obs <= 3 && n_obs < starsNeeded()) {
+    for (auto& l : sc.lists) l.reset(db.stars().size());
+    VerifyOptions vopt = options_.verify;
+    vopt.scale_tolerance = std::max(vopt.scale_tolerance, options_.scale_tolerance);
+    const Verifier verifier(db, camera, *solver_, vopt);
+    SearchContext ctx(obs, db, camera, options_, verifier, n_obs, sc.lists, sc.counters);
+    const auto ts = std::chrono::steady_clock::now();
+    const identify_detail::FewStarOutcome few = identify_detail::identifyFewStars(ctx, *solver_);
+    ctx.verify_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
+    ctx.hypotheses = few.magnitude_ok;
+    ctx.any_hypothesis = few.any_candidate;
+    ctx.solved = few.solved;
+    (few.solved ? ctx.accepted : ctx.best_rejected) = few.result;
+    if (!few.solved) ctx.best_rejected.reason = few.reason;
+    res.algorithm = name() + "+magnitudes";
+    return finishWith(ctx);
+  }
+  if (n < minStars() || n_obs < options_.verify.min_matches) {
     res.status = IdentifyStatus::TooFewStars;
     res.reason = std::to_string(obs.size()) + " stars observed, " + name() + " needs at least " +
-                 std::to_string(std::max(minStars(), options_.verify.min_matches));
+                 std::to_string(starsNeeded()) +
+                 (n_obs >= 2 && n_obs <= 3
+                      ? " (2 or 3 stars: the magnitude tie-break, magnitude_sigma > 0)"
+                      : "");
     return finish();
   }
   for (auto& l : sc.lists) l.reset(db.stars().size());
@@ -205,6 +230,10 @@ IdentifyResult StarIdentifier::identify(const std::vector<StarObservation>& obs,
     return finishWith(wide);
   }
   return finishWith(ctx);
+}
+
+int StarIdentifier::starsNeeded() const {
+  return std::max(minStars(), options_.verify.min_matches);
 }
 
 IdentifyResult StarIdentifier::finishResult(SearchContext& ctx, IdentifyResult res,

@@ -49,6 +49,11 @@ struct IdentifyOptions {
   int max_verifications = 300;   ///< hypotheses verified before giving up
   long max_candidates = 2000000; ///< pattern candidates examined before giving up
   std::string solver = "quest";  ///< Wahba solver (sensors/attitude/wahba.hpp)
+  /// [mag] > 0: a field of 2 or 3 stars (too few for the algorithm) is identified with the
+  /// magnitude tie-break (few_stars.hpp); the 1-sigma of one star's magnitude against catalog
+  /// V (the photometric scatter `solve` reports, catalog error included). 0: off, such a
+  /// field is TooFewStars.
+  double magnitude_sigma = 0;
   VerifyOptions verify;          ///< scale_tolerance is copied from above
 
   /// True when all values are usable (the solver name included); otherwise false with `why`
@@ -115,6 +120,8 @@ class StarIdentifier {
   explicit StarIdentifier(const IdentifyOptions& options);
   /// Smallest number of observations the algorithm needs.
   virtual int minStars() const { return 4; }
+  /// Observations below which the algorithm cannot run: max(minStars(), verify.min_matches).
+  int starsNeeded() const;
 
  private:
   virtual void doIdentify(SearchContext& ctx) const = 0;

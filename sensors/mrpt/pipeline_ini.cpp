@@ -118,6 +118,9 @@ const SectionSchema<IdentifyOptions>& identifySchema() {
           .add("lis_max_stars_retry", &I::max_stars_retry, "one more search over this many")
           .add("lis_max_verifications", &I::max_verifications, "hypotheses verified at most")
           .add("lis_max_candidates", &I::max_candidates, "pattern candidates examined at most")
+          .add("lis_magnitude_sigma", &I::magnitude_sigma,
+               "[mag] > 0: 2-3 star fields solve by the magnitude tie-break, this the 1-sigma of "
+               "a star's magnitude (solve's photometry scatter_mag); 0 = off")
           .include(verifySchema(), &I::verify);
   return s;
 }
