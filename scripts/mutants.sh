@@ -111,6 +111,15 @@ mutant drop-saturated-min-stars sensors/identify/recursive_id.cpp \
   's/if \(int\(unsaturated\) < opts_.min_stars \|\| /if (/' \
   $TR 'RecursiveIdRules.*' \
   "drop_saturated keeps saturated stars when fewer than min_stars others remain"
+mutant streaked-lis-remeasure sensors/tracking/star_tracker.cpp \
+  's/^constexpr double kStreakedPx = 2.0;/constexpr double kStreakedPx = 2.0e9;/' \
+  $TR 'LostInSpaceCovariance.*' \
+  "streaked lost-in-space fixes re-measured by tracking (their covariance: 1.4x optimistic)"
+FU=st_test_fusion
+mutant heads-disagreement fusion/fusion_loop.cpp \
+  's/const bool agree = j.ok \&\& j.dof <= head_threshold_.maxDof\(\) \&\& j.chi2 <= head_threshold_\(j.dof\);/const bool agree = j.ok;/' \
+  $FU 'FusionHeads.*' \
+  "several heads: fixes that disagree beyond chi2(3 (N - 1)) are not merged"
 DT=st_test_detect
 mutant dark-frame sensors/detect/star_detector.cpp \
   's/cv::subtract\(grey, dark, s.dark_subtracted\);/s.dark_subtracted = grey;/' \
