@@ -5,6 +5,7 @@
 #pragma once
 #include <mrpt/core/Clock.h>
 #include <mrpt/math/CQuaternion.h>
+#include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DQuat.h>
 
 #include <chrono>
@@ -30,6 +31,13 @@ inline mrpt::poses::CPose3DQuat toPose3DQuat(const Quat& q_ib) {
 }
 
 inline Quat fromPose3DQuat(const mrpt::poses::CPose3DQuat& p) { return fromMrpt(p.quat()); }
+
+/// A mounting written as MRPT CPose3D yaw pitch roll [deg] (the ini keys *_ypr_deg): the
+/// rotation-only pose, body from sensor.
+inline mrpt::poses::CPose3D mountingPose(const Vec3& ypr_deg) {
+  const Vec3 ypr = ypr_deg * kRadPerDeg;
+  return mrpt::poses::CPose3D(0, 0, 0, ypr.x(), ypr.y(), ypr.z());
+}
 
 /// Julian year of an MRPT timestamp (for catalog epoch propagation).
 inline double julianYear(const mrpt::Clock::time_point& t) {

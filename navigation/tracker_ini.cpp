@@ -5,6 +5,7 @@
 
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "common/mrpt_convert.hpp"
 
 namespace st {
 
@@ -173,11 +174,7 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   h.window = k.gyro_health_window;
   h.noise_factor = k.gyro_noise_factor;
   h.noisy_flags = k.gyro_noisy_flags;
-  const Vec3& ypr = k.gyro_mount_ypr_deg;
-  const auto R = mrpt::poses::CPose3D(0, 0, 0, deg2rad(ypr.x()), deg2rad(ypr.y()), deg2rad(ypr.z()))
-                     .getRotationMatrix();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) f.R_body_gyro(i, j) = R(i, j);
+  f.R_body_gyro = mountingPose(k.gyro_mount_ypr_deg).getRotationMatrix().asEigen();
   n.camera_label = k.camera_label;
   n.gyro_label = k.gyro_label;
   n.truth_label = k.truth_label;

@@ -195,8 +195,7 @@ void CStarTrackerSensor::initialize() {
   if (!has_read_noise_ && facts.read_noise_adu) t.detect.read_noise_adu = *facts.read_noise_adu;
   // The mounting: the section's, else what the source knows (a simulated head's).
   if (mount_ypr_deg_) {
-    const Vec3 ypr = *mount_ypr_deg_ * kRadPerDeg;
-    o.sensor_pose = mrpt::poses::CPose3D(0, 0, 0, ypr.x(), ypr.y(), ypr.z());
+    o.sensor_pose = mountingPose(*mount_ypr_deg_);
   } else if (facts.mount) {
     o.sensor_pose = *facts.mount;
   }

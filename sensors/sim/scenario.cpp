@@ -118,10 +118,7 @@ SkySimulator::SkySimulator(const Scenario& sc, uint64_t seed,
   init();
 }
 
-mrpt::poses::CPose3D CameraHead::pose() const {
-  const Vec3 ypr = mount_ypr_deg * kRadPerDeg;
-  return mrpt::poses::CPose3D(0, 0, 0, ypr.x(), ypr.y(), ypr.z());
-}
+mrpt::poses::CPose3D CameraHead::pose() const { return mountingPose(mount_ypr_deg); }
 
 void SkySimulator::init() {
   if (!sc_.motion) throw InputError(sc_.source + ": scenario has no motion profile");
