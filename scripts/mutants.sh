@@ -133,6 +133,10 @@ mutant dynamic-threshold sensors/detect/star_detector.cpp \
   's/k_ = std::max\(opts_.dynamic_min_sigma, k_ - opts_.dynamic_step_sigma\);/(void)0;/' \
   $DT 'DynamicThreshold.*' \
   "seed 004 sec. 8.2.3: a sparse frame lowers the next frame's threshold"
+mutant streak-pieces sensors/detect/streaks.cpp \
+  's/s.length = std::max\(s.length, chainedLength\(stars, k, u, 1.5 \* psf, 3.0 \* psf\)\);/(void)u;/' \
+  $DT 'StreakShapes.*' \
+  "blind streak length: pieces of a broken streak joined (their own lengths set 5 px for 13 px)"
 APP=startracker
 mutant mc-star-count-lt3 app/montecarlo/exp_star_count.cpp \
   's/return x < 3; \}/return x <= 3; }/' \

@@ -60,33 +60,110 @@ void measureStreaks(const cv::Mat& image, const std::function<Vec2(const Vec2&)>
   stars = std::move(kept);
 }
 
-// A rotation across the boresight streaks all stars alike. A streak of length L along a PSF
-// of sigma s has second moments L^2/12 + s^2 along and s^2 across, so L = sqrt(12 (l1 - l2)).
-// The brightest elongated blobs are whole streaks (faint ones break into fragments): their
-// median length, and the mean of their axes (doubled angles: an axis has no sign), must
-// agree, or nothing is returned (a roll, a tumble, double stars).
+namespace {
+
+/// [px] the length a blob's second moments give (a streak of length L along a PSF of sigma s
+/// has L^2/12 + s^2 along and s^2 across, so L = sqrt(12 (l1 - l2))) and its axis angle
+/// doubled (an axis has no sign).
+void streakShape(const Centroid& c, double& length, double& twice_angle) {
+  const double a = c.shape(0, 0), b = c.shape(1, 1), x = c.shape(0, 1);
+  const double dd = std::sqrt(0.25 * (a - b) * (a - b) + x * x);  // (l1 - l2) / 2
+  length = std::sqrt(12.0 * 2.0 * dd);
+  twice_angle = std::atan2(2.0 * x, a - b);
+}
+
+/// [px] the extent along `u` of the streak that blob `k` belongs to: a faint or shallow
+/// streak breaks where the noise dips below the threshold, and its pieces are blobs on one
+/// line, each shorter than the streak. Pieces within `across_px` of the line and `gap_px` of
+/// the growing segment's ends join it.
+double chainedLength(const std::vector<Centroid>& stars, std::size_t k, const Vec2& u,
+                     double across_px, double gap_px) {
+  double lo = 0, hi = 0;
+  {
+    double len = 0, twice = 0;
+    streakShape(stars[k], len, twice);
+    lo = -0.5 * len;
+    hi = 0.5 * len;
+  }
+  std::vector<bool> joined(stars.size(), false);
+  joined[k] = true;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t j = 0; j < stars.size(); ++j) {
+      if (joined[j]) continue;
+      const Vec2 d = stars[j].px - stars[k].px;
+      if (std::abs(u.x() * d.y() - u.y() * d.x()) > across_px) continue;
+      double len = 0, twice = 0;
+      streakShape(stars[j], len, twice);
+      const double a = d.dot(u) - 0.5 * len, b = d.dot(u) + 0.5 * len;
+      if (a > hi + gap_px || b < lo - gap_px) continue;
+      lo = std::min(lo, a);
+      hi = std::max(hi, b);
+      joined[j] = grew = true;
+    }
+  }
+  return hi - lo;
+}
+
+}  // namespace
+
+// A rotation across the boresight streaks all stars alike. The brightest elongated blobs give
+// the streak: each its length (its own, or the extent of the pieces on its line when the
+// streak broke apart: a piece can outshine a whole faint streak) and its axis. Whole streaks
+// share one length; so the length is the one most of them agree on (the longer of two
+// equally supported), with at least kMinAgree agreeing, and their axes must agree too, or
+// nothing is returned (a roll, a tumble, double stars). Without the pieces joined, the
+// lengths of pieces set it on 2 of 150 frames of a 4 deg/s slew (4.7 and 5.2 px for 13 px
+// streaks), and the rate drawn from them made those fixes 4-8x too confident
+// (StreakShapes.PiecesOfAStreakDoNotSetItsLength).
 std::optional<Vec2> streakFromShapes(const std::vector<Centroid>& stars,
                                      const DetectorOptions& opts) {
-  constexpr int kUse = 5;              // brightest elongated blobs used
+  constexpr int kUse = 5;                // brightest elongated blobs used
+  constexpr int kMinAgree = 3;           // of them sharing one length
   constexpr double kMinCoherence = 0.9;  // resultant length of the doubled axis angles
+  const double psf = opts.psfSigmaGuess();
+  struct Shape {
+    double length, twice_angle;
+  };
+  std::vector<Shape> shapes;
+  for (std::size_t k = 0; k < stars.size(); ++k) {  // brightest first
+    const Centroid& c = stars[k];
+    if (static_cast<int>(shapes.size()) >= kUse) break;
+    if (!(c.flags & kElongated) || (c.flags & (kSaturated | kTouchesEdge))) continue;
+    Shape s{};
+    streakShape(c, s.length, s.twice_angle);
+    const Vec2 u(std::cos(0.5 * s.twice_angle), std::sin(0.5 * s.twice_angle));
+    // Pieces: on the line within a PSF's reach, gaps of up to a few PSF widths.
+    s.length = std::max(s.length, chainedLength(stars, k, u, 1.5 * psf, 3.0 * psf));
+    shapes.push_back(s);
+  }
+  // Two whole streaks' moment lengths differ by their noise: ~1 px or a tenth of the length.
+  auto agree = [](double l1, double l2) {
+    return std::abs(l1 - l2) <= std::max(1.5, 0.15 * std::max(l1, l2));
+  };
+  int best_support = 0;
+  double best_len = 0;
+  for (const Shape& s : shapes) {
+    int support = 0;
+    for (const Shape& o : shapes) support += agree(s.length, o.length);
+    if (support > best_support || (support == best_support && s.length > best_len)) {
+      best_support = support;
+      best_len = s.length;
+    }
+  }
+  if (best_support < kMinAgree) return std::nullopt;
   std::vector<double> lengths;
   double c2 = 0, s2 = 0;
-  for (const Centroid& c : stars) {  // brightest first
-    if (static_cast<int>(lengths.size()) >= kUse) break;
-    if (!(c.flags & kElongated) || (c.flags & (kSaturated | kTouchesEdge))) continue;
-    const double a = c.shape(0, 0), b = c.shape(1, 1), x = c.shape(0, 1);
-    const double dd = std::sqrt(0.25 * (a - b) * (a - b) + x * x);
-    lengths.push_back(std::sqrt(12.0 * 2.0 * dd));  // l1 - l2 = 2 dd
-    const double twice = std::atan2(2.0 * x, a - b);  // twice the major axis angle
-    c2 += std::cos(twice);
-    s2 += std::sin(twice);
+  for (const Shape& s : shapes) {
+    if (!agree(best_len, s.length)) continue;
+    lengths.push_back(s.length);
+    c2 += std::cos(s.twice_angle);
+    s2 += std::sin(s.twice_angle);
   }
-  if (lengths.size() < 3) return std::nullopt;
   const double n = static_cast<double>(lengths.size());
   if (std::hypot(c2, s2) / n < kMinCoherence) return std::nullopt;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   const double len = lengths[lengths.size() / 2];
-  const double psf = opts.psfSigmaGuess();
   if (len <= 2.0 * psf) return std::nullopt;
   const double angle = 0.5 * std::atan2(s2, c2);
   return Vec2(len * std::cos(angle), len * std::sin(angle));
