@@ -19,9 +19,22 @@ std::string fovColumn(double f) { return "n_fov" + fmt(f, 5); }
 
 constexpr double kThreshold = 0.01;  // seed 002 eq. (14)
 
+// R_body_cam of head h: head 0 looks along body +z, head 1 along +x (pitch 90 deg, as
+// rawlogs/two_heads.ini), head 2 along +y; mutually perpendicular, so with FOVs under
+// 90 deg no star is counted twice.
+Mat3 headRotation(int h) {
+  Mat3 R;
+  if (h == 0) return Mat3::Identity();
+  if (h == 1) R << 0, 0, 1, 0, 1, 0, -1, 0, 0;  // camera +z -> body +x
+  else R << 1, 0, 0, 0, 0, 1, 0, -1, 0;         // camera +z -> body +y
+  return R;
+}
+
 class FovSelection : public Experiment {
  public:
   std::string name() const override { return "fov-selection"; }
+  bool usesFieldStop() const override { return false; }
+  bool usesHeads() const override { return true; }
 
   void configure(McOptions& o) const override {
     if (o.fovs_deg.empty())
@@ -33,6 +46,9 @@ class FovSelection : public Experiment {
     std::sort(o.mags.begin(), o.mags.end());
     o.mags.erase(std::unique(o.mags.begin(), o.mags.end()), o.mags.end());
     if (o.mags.empty()) throw InputError("--mags: give at least one magnitude limit");
+    if (o.heads > 1 && o.fovs_deg.back() >= 90)
+      throw InputError("--fovs: with --heads the square FOVs must stay under 90 deg (the heads "
+                       "are 90 deg apart)");
   }
 
   std::vector<std::string> columns(const McOptions& o) const override {
@@ -52,15 +68,18 @@ class FovSelection : public Experiment {
         std::mt19937_64 rng(seed);
         const Quat q = randomAttitude(rng);
         const Mat3 R_ib = q.toRotationMatrix();
-        // Square FOV of full angle f: |x/z| <= tan(f/2) and |y/z| <= tan(f/2).
+        // Square FOV of full angle f: |x/z| <= tan(f/2) and |y/z| <= tan(f/2), per head.
         const double t_max = std::tan(deg2rad(o.fovs_deg.back()) / 2);
-        e->db_->coneQuery(R_ib.col(2), std::atan(std::sqrt(2.0) * t_max) + 1e-9, cone);
-        std::vector<std::pair<double, double>> stars;  // (max |tan|, mag)
-        for (uint32_t s : cone) {
-          const Vec3 v = R_ib.transpose() * e->db_->stars()[s].u_i;
-          if (v.z() <= 0) continue;
-          stars.push_back({std::max(std::fabs(v.x()), std::fabs(v.y())) / v.z(),
-                           e->db_->stars()[s].mag});
+        std::vector<std::pair<double, double>> stars;  // (max |tan|, mag), all heads
+        for (int h = 0; h < o.heads; ++h) {
+          const Mat3 R_ic = R_ib * headRotation(h);
+          e->db_->coneQuery(R_ic.col(2), std::atan(std::sqrt(2.0) * t_max) + 1e-9, cone);
+          for (uint32_t s : cone) {
+            const Vec3 v = R_ic.transpose() * e->db_->stars()[s].u_i;
+            if (v.z() <= 0) continue;
+            stars.push_back({std::max(std::fabs(v.x()), std::fabs(v.y())) / v.z(),
+                             e->db_->stars()[s].mag});
+          }
         }
         for (double m : o.mags) {
           Row r = {std::to_string(trial), fmt(m, 4)};
@@ -82,11 +101,14 @@ class FovSelection : public Experiment {
 
   Report summarise(const McOptions& o, const Table& t) const override {
     Report rep;
-    rep.title = "FOV size selection: P(stars < 3) and P(stars < 4) vs square FOV";
+    rep.title = "FOV size selection: P(stars < 3) and P(stars < 4) vs square FOV" +
+                (o.heads > 1 ? ", " + std::to_string(o.heads) + " identical heads 90 deg apart"
+                             : std::string());
     rep.notes.push_back(
         "Seed 002 §IV eq. (14): for each magnitude limit the smallest square FOV with "
         "P(N < 3) < 0.01 and with P(N < 4) < 0.01, from random attitudes on the real catalog "
-        "(double stars closer than " + fmt(o.merge_arcsec, 3) + "\" merged). `ci95_hi` is the "
+        "(double stars closer than " + fmt(o.merge_arcsec, 3) + "\" merged); with several heads "
+        "N is the sum over the heads. `ci95_hi` is the "
         "upper end of the 95 % Wilson interval of the estimated probability: with few trials "
         "a FOV can meet 0.01 by luck, and the column shows how sure the estimate is.");
     const std::size_t c_mag = t.col("V_limit");
