@@ -123,7 +123,7 @@ TEST(SeedTables, Seed002Fig11TwoHeads) {
 
 // Seed 004 Table 5.1 says a 30 deg FOV always holds >= 4 stars at V <= 3.6 and >= 6 at
 // V <= 3.9; a 30 deg square does not (holes: the docs explain). Full size (20,000 trials,
-// seed 1): P(N >= 4 | V 3.6) = 0.8142, P(N >= 6 | V 3.9) = our per-mag table's.
+// seed 1): P(N >= 4 | V 3.6) = 0.8142.
 TEST(SeedTables, Seed004Table5_1StarsAtTheSeedsMagnitudes) {
   const double n = 4000;
   const std::string dir = runMc("star-count --runs 4000 --seed 2 --fov-deg 30 --mags 3.6,3.9 "
