@@ -49,15 +49,18 @@ const std::vector<std::string>& row(const Csv& t, const std::vector<std::string>
 
 double binomialSigma(double p, double n) { return std::sqrt(p * (1 - p) / n); }
 
-// Seed 000 Fig. 1: 32 x 32 deg, V <= 3, NT = 1000 random attitudes. Issue 17 reads 72 % of
-// the attitudes with >= 3 stars and 50.6 % with >= 4 (the seed's text gives no numbers).
+// Seed 000 Fig. 1: 32 x 32 deg, V <= 3, NT = 1000 random attitudes. The seed's text gives
+// no number; issue 17's 72 % (>= 3 stars) and 50.6 % (>= 4) are our own 1000-attitude run
+// with seed 1, so the pin is our 10,000-attitude run (seed 1): 70.75 % and 51.74 %, and the
+// tolerance combines the binomial sigmas of both runs.
 TEST(SeedTables, Seed000Fig1StarsInTheReferenceCamera) {
   const std::string dir = runMc("star-count --runs 1000 --seed 2 --fov-deg 32 --mag-limit 3 --mags 3");
   const Csv per = test::readCsvCells(dir + "/star-count_per_mag.csv");
   const auto& r = row(per, {"3"});
   const double ge3 = 1 - num(r[column(per, "P(N<3)")]), ge4 = 1 - num(r[column(per, "P(N<4)")]);
-  EXPECT_NEAR(ge3, 0.72, 3 * binomialSigma(0.72, 1000));
-  EXPECT_NEAR(ge4, 0.506, 3 * binomialSigma(0.506, 1000));
+  auto tol = [](double p) { return 3 * std::sqrt(p * (1 - p) * (1 / 1000.0 + 1 / 10000.0)); };
+  EXPECT_NEAR(ge3, 0.7075, tol(0.7075));
+  EXPECT_NEAR(ge4, 0.5174, tol(0.5174));
 }
 
 // Seed 003 Fig. 2: a 30 deg opening angle sees 18.9 stars brighter than "optical class 4.5"
@@ -116,26 +119,43 @@ TEST(SeedTables, Seed003Tables2And3LiebeInTheSeedsCamera) {
 TEST(SeedTables, Seed002Fig11TwoHeads) {
   const std::string dir = runMc("fov-selection --runs 1000 --seed 2 --heads 2 --fovs 8 --mags 5");
   const Csv p = test::readCsvCells(dir + "/fov-selection_probabilities.csv");
-  const auto& r = row(p, {"5", "8"});
+  const auto& r = row(p, {"2", "5", "8"});  // heads, V_limit, fov_deg
   EXPECT_NEAR(num(r[column(p, "P(N<3)")]), 0.151, 3 * binomialSigma(0.151, 1000));
   EXPECT_NEAR(num(r[column(p, "P(N<4)")]), 0.297, 3 * binomialSigma(0.297, 1000));
+  // The first head alone, from the same attitudes: the one-head curve.
+  const auto& r1 = row(p, {"1", "5", "8"});
+  EXPECT_NEAR(num(r1[column(p, "P(N<3)")]), 0.601, 3 * binomialSigma(0.601, 1000));
 }
 
 // Seed 004 Table 5.1 says a 30 deg FOV always holds >= 4 stars at V <= 3.6 and >= 6 at
 // V <= 3.9; a 30 deg square does not (holes: the docs explain). Full size (20,000 trials,
-// seed 1): P(N >= 4 | V 3.6) = 0.8142.
+// seed 1): P(N >= 4 | V 3.6) = 0.8142. The required-magnitude table (the smallest limit
+// whose minimum over the trials reaches N) is recomputed from the per-limit minima; the
+// limits are chosen so that some minimum equals some N (checked), where ">=" matters.
 TEST(SeedTables, Seed004Table5_1StarsAtTheSeedsMagnitudes) {
   const double n = 4000;
-  const std::string dir = runMc("star-count --runs 4000 --seed 2 --fov-deg 30 --mags 3.6,3.9 "
-                                "--mag-limit 3.6");
+  const std::string dir = runMc("star-count --runs 4000 --seed 2 --fov-deg 30 "
+                                "--mags 3.6,3.9,4.3,4.4,4.5,4.6,4.7,4.8,4.9,5 --mag-limit 3.6");
   const Csv per = test::readCsvCells(dir + "/star-count_per_mag.csv");
   const auto& r = row(per, {"3.6"});
   EXPECT_NEAR(1 - num(r[column(per, "P(N<4)")]), 0.8142, 3 * binomialSigma(0.8142, n));
-  // The required-magnitude table follows the per-magnitude minima.
   const Csv req = test::readCsvCells(dir + "/star-count_required_mag.csv");
-  const double min36 = num(r[column(per, "min")]), min39 = num(row(per, {"3.9"})[column(per, "min")]);
-  const auto& r4 = row(req, {"4"});
-  EXPECT_EQ(r4[1], min36 >= 4 ? "3.6" : min39 >= 4 ? "3.9" : "> grid");
+  ASSERT_EQ(req.size(), 6u);  // header + N = 3, 4, 5, 6, 8
+  const std::size_t c_min = column(per, "min");
+  bool boundary = false;
+  for (std::size_t k = 1; k < req.size(); ++k) {
+    const int n_min = std::stoi(req[k][0]);
+    std::string want = "> grid";
+    for (std::size_t i = 1; i < per.size(); ++i) {
+      boundary = boundary || num(per[i][c_min]) == n_min;
+      if (num(per[i][c_min]) >= n_min) {
+        want = per[i][0];
+        break;
+      }
+    }
+    EXPECT_EQ(req[k][1], want) << "N = " << n_min;
+  }
+  EXPECT_TRUE(boundary) << "no minimum equals any N: the test would not see > for >=";
 }
 
 // Seed 004 sec. 5.5.4: SKY2000 V < 6 has 5060 stars; keeping the 8 brightest of every field
