@@ -25,6 +25,9 @@ namespace st::app::mc {
 namespace {
 
 const std::vector<double> kMags = {0, 1, 2, 3, 4};  // seed 004 Table 5.3
+// Seed 004 Table 5.3: mean and standard deviation of the difference, per V above (its WS).
+const std::vector<double> kPaperMean = {0.0309, 0.0311, 0.0353, 0.0552, 0.1362};
+const std::vector<double> kPaperStd = {0.0427, 0.0324, 0.0419, 0.0414, 0.0685};
 const std::vector<std::string> kCentroiders = {"cog", "gauss"};
 constexpr int kStarsPerImage = 20;
 constexpr double kPsfWidthPx = 10;  // Table 5.2 psfWidth
@@ -170,12 +173,22 @@ class MagnitudeError : public Experiment {
     tab.name = "table5_3";
     tab.caption = "Table 5.3: V_calc - V per magnitude (images with all stars found)";
     tab.table.columns = {"V", "centroider", "images", "images_all_found", "stars",
-                         "mean_diff", "std_diff", "mean_abs_diff"};
+                         "mean_diff", "std_diff", "mean_abs_diff", "paper_mean", "paper_std"};
     Plot p = makePlot("Measured - assigned magnitude (seed 004 Table 5.3)", "assigned V",
                       "mean of V_calc - V (error bars: 1 std)");
+    p.key = "top left";
+    PlotSeries paper("paper (seed 004 Table 5.3)", PlotStyle::ErrorBars);
+    for (std::size_t k = 0; k < kMags.size(); ++k) {
+      paper.x.push_back(kMags[k]);
+      paper.y.push_back(kPaperMean[k]);
+      paper.y_lo.push_back(kPaperMean[k] - kPaperStd[k]);
+      paper.y_hi.push_back(kPaperMean[k] + kPaperStd[k]);
+    }
+    p.series.push_back(paper);
     for (const std::string& cen : kCentroiders) {
       PlotSeries s(cen, PlotStyle::ErrorBars);
-      for (double v : kMags) {
+      for (std::size_t k = 0; k < kMags.size(); ++k) {
+        const double v = kMags[k];
         std::size_t n_img = 0, n_all = 0;
         std::vector<double> d, a;
         for (const auto& [key, im] : images) {
@@ -195,7 +208,7 @@ class MagnitudeError : public Experiment {
         const double sd = d.size() > 1 ? std::sqrt(var / double(d.size() - 1)) : NAN;
         tab.table.rows.push_back({fmt(v, 3), cen, std::to_string(n_img), std::to_string(n_all),
                                   std::to_string(d.size()), fmt(mu, 4), fmt(sd, 4),
-                                  fmt(mean(a), 4)});
+                                  fmt(mean(a), 4), fmt(kPaperMean[k], 4), fmt(kPaperStd[k], 4)});
         s.x.push_back(v);
         s.y.push_back(mu);
         s.y_lo.push_back(mu - sd);
