@@ -70,6 +70,15 @@ void addMontecarloCommand(CLI::App& root, CommandRun& run) {
       ->capture_default_str();
   cmd->add_option("--catalog", o->catalog, "Star catalog (default: the committed Hipparcos "
                   "subset)");
+  cmd->add_option("--field-stop-deg", o->field_stop_deg, "Circular field stop inside the image, "
+                  "full angle [deg]: stars beyond half of it from the boresight are not seen "
+                  "(0 = the whole image)")
+      ->check(Number(0, 180, Bound::kClosed, Bound::kOpen))
+      ->capture_default_str();
+  cmd->add_option("--heads", o->heads, "Identical camera heads with boresights 90 deg apart; "
+                  "their star counts add up (fov-selection)")
+      ->check(WholeNumber(1, 3))
+      ->capture_default_str();
   cmd->add_flag("--no-plots", *no_plots, "Write tables only (no gnuplot)");
   cmd->add_option("--gnuplot", o->gnuplot, "gnuplot program (default $ST_GNUPLOT or gnuplot)");
   cmd->callback([=, &run] {

@@ -154,6 +154,22 @@ mutant mc-fov-selection-threshold app/montecarlo/exp_fov_selection.cpp \
   's/if \(std::isnan\(need4\) \&\& P4 < kThreshold\)/if (std::isnan(need4) \&\& P4 <= 2 * kThreshold)/' \
   "$APP st_test_app" 'MontecarloTables.*' \
   "Monte Carlo fov-selection table: the smallest FOV with P(N<4) < 0.01"
+mutant mc-field-stop app/montecarlo/sky.cpp \
+  's/field_stop_rad > 0 \? std::min/field_stop_rad < 0 ? std::min/' \
+  "$APP st_test_app" 'SeedTables.*' \
+  "seed 003: the 30 deg opening angle as a circular field stop (ignored)"
+mutant mc-heads-apart app/montecarlo/exp_fov_selection.cpp \
+  's/if \(h == 0\) return Mat3::Identity\(\);/if (h >= 0) return Mat3::Identity();/' \
+  "$APP st_test_app" 'SeedTables.*' \
+  "seed 002 Fig. 11: two heads 90 deg apart (here: both along one boresight)"
+mutant mc-required-mag app/montecarlo/exp_star_count.cpp \
+  's/if \(lowest >= n_min\)/if (lowest > n_min)/' \
+  "$APP st_test_app" 'SeedTables.*' \
+  "seed 004 Table 5.1: the smallest limit whose minimum star count reaches N"
+mutant mc-psf-width app/montecarlo/exp_magnitude_error.cpp \
+  's/s.psf_sigma_px = kPsfWidthPx \/ 4;/s.psf_sigma_px = kPsfWidthPx \/ 2.3548200450309493;/' \
+  "$APP st_test_app" 'SeedTables.*' \
+  "seed 004 eq. 4.13: the PSF's sigma = psfWidth / 4 (read as the FWHM instead)"
 
 # A mutant's expression: sed -E substitutions separated by @@ (code holds ';').
 applySed() {  # expr file [-i]

@@ -52,6 +52,7 @@ class CentroidDefocus : public Experiment {
  public:
   std::string name() const override { return "centroid-defocus"; }
   bool measuresTime() const override { return true; }
+  bool usesFieldStop() const override { return false; }
   void configure(McOptions&) const override {}
   std::vector<std::string> columns(const McOptions&) const override {
     return {"trial", "kind", "fwhm_px", "snr", "mag", "centroider", "ok", "dx_px", "dy_px", "us"};

@@ -54,7 +54,7 @@ class ErrorVsStars : public Experiment {
       void run(uint64_t trial, uint64_t seed, std::vector<Row>& rows) override {
         std::mt19937_64 rng(seed);
         const Quat q = randomAttitude(rng);
-        auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit);
+        auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit, fieldStop(o));
         std::shuffle(vis.begin(), vis.end(), rng);
         std::normal_distribution<double> n01;
         std::vector<Centroid> cents;

@@ -56,7 +56,7 @@ class FewStars : public Experiment {
         std::mt19937_64 rng(seed);
         std::normal_distribution<double> n01;
         const Quat q = randomAttitude(rng);
-        const auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit);
+        const auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit, fieldStop(o));
         struct Item {
           double m;
           Centroid c;

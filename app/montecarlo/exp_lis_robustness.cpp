@@ -108,7 +108,7 @@ class LisRobustness : public Experiment {
       void run(uint64_t trial, uint64_t seed, std::vector<Row>& rows) override {
         std::mt19937_64 rng(seed);
         const Quat q = randomAttitude(rng);
-        const auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit);
+        const auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit, fieldStop(o));
         for (std::size_t si = 0; si < sits.size(); ++si) {
           std::mt19937_64 srng(trialSeed(seed, trial, si + 1));
           const Scene sc = makeScene(srng, e->cam_, vis, sits[si]);

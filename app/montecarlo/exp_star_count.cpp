@@ -55,10 +55,11 @@ class StarCount : public Experiment {
     struct W : TrialWorker {
       const StarCount* e;
       std::vector<double> mags;
+      double stop = 0;
       void run(uint64_t trial, uint64_t seed, std::vector<Row>& rows) override {
         std::mt19937_64 rng(seed);
         const Quat q = randomAttitude(rng);
-        const auto vis = visibleStars(*e->db_, e->cam_, q, mags.back());
+        const auto vis = visibleStars(*e->db_, e->cam_, q, mags.back(), stop);
         const RaDecRoll rdr = raDecRollFromAttitude(q);
         Row r = {std::to_string(trial), fmt(rad2deg(rdr.ra), 7), fmt(rad2deg(rdr.dec), 7)};
         for (double m : mags)
@@ -70,6 +71,7 @@ class StarCount : public Experiment {
     auto w = std::make_unique<W>();
     w->e = this;
     w->mags = o.mags;
+    w->stop = fieldStop(o);
     return w;
   }
 
@@ -77,7 +79,9 @@ class StarCount : public Experiment {
     Report rep;
     rep.title = "Stars in the field of view over random attitudes (" + fmt(o.fov_deg, 4) +
                 " deg horizontal FOV, " + std::to_string(o.width) + "x" +
-                std::to_string(o.height) + " px)";
+                std::to_string(o.height) + " px" +
+                (o.field_stop_deg > 0 ? ", circular field stop " + fmt(o.field_stop_deg, 4) + " deg"
+                                      : std::string()) + ")";
     rep.notes.push_back(
         "Each trial draws a uniformly distributed attitude and counts the database stars "
         "(double stars closer than " + fmt(o.merge_arcsec, 3) + "\" merged) that project inside "
@@ -123,6 +127,27 @@ class StarCount : public Experiment {
     }
     pm.series = {s_band, s_mean, s_p1, s_min};
     rep.tables.push_back(per);
+
+    // Seed 004 Table 5.1: the faintest limit a camera needs so that every image holds at
+    // least N stars, i.e. the smallest grid limit whose minimum over the trials is >= N.
+    ReportTable req;
+    req.name = "required_mag";
+    req.caption = "Smallest magnitude limit of the grid with at least N stars in every trial "
+                  "(seed 004 Table 5.1)";
+    req.table.columns = {"min_stars", "required_V", "min_at_required_V"};
+    for (int n_min : {3, 4, 5, 6, 8}) {
+      std::string v = "> grid", got = "";
+      for (std::size_t k = 0; k < o.mags.size(); ++k) {
+        const double lowest = cellNum(per.table.rows[k], 4, "min");
+        if (lowest >= n_min) {
+          v = fmt(o.mags[k], 4);
+          got = fmt(lowest, 4);
+          break;
+        }
+      }
+      req.table.rows.push_back({std::to_string(n_min), v, got});
+    }
+    rep.tables.push_back(req);
 
     // Histogram at the main magnitude limit.
     ReportTable hist;

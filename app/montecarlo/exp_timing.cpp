@@ -38,6 +38,7 @@ class Timing : public Experiment {
  public:
   std::string name() const override { return "timing"; }
   bool measuresTime() const override { return true; }
+  bool usesFieldStop() const override { return false; }  // the rendered frames fill the image
 
   void configure(McOptions& o) const override {
     if (o.algorithms.empty()) o.algorithms = {StarIdentifier::defaultName()};
@@ -100,7 +101,7 @@ class Timing : public Experiment {
       void run(uint64_t trial, uint64_t seed, std::vector<Row>& rows) override {
         std::mt19937_64 rng(seed);
         const Quat q = randomAttitude(rng);
-        const auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit);
+        const auto vis = visibleStars(*e->db_, e->cam_, q, o.mag_limit, 0);
         ErrorSituation sit;
         sit.noise_px = o.noise_px;
         sit.false_stars = std::uniform_int_distribution<int>(0, 3)(rng);

@@ -74,6 +74,10 @@ class Experiment {
   virtual Report summarise(const McOptions& o, const Table& trials) const = 0;
   /// Whether rows contain wall-clock measurements (then they differ between runs).
   virtual bool measuresTime() const { return false; }
+  /// Whether the experiment honours McOptions::field_stop_deg / McOptions::heads (the
+  /// runner refuses the option otherwise rather than ignore it).
+  virtual bool usesFieldStop() const { return true; }
+  virtual bool usesHeads() const { return false; }
 
   static std::unique_ptr<Experiment> create(const std::string& name, std::string* error = nullptr);
   static std::vector<std::string> names();

@@ -62,7 +62,9 @@ std::map<std::string, std::string> McOptions::toKeyValues() const {
           {"solvers", joinList(solvers)},
           {"noise_px", fmt(noise_px, 17)},
           {"merge_arcsec", fmt(merge_arcsec, 17)},
-          {"catalog", catalog}};
+          {"catalog", catalog},
+          {"field_stop_deg", fmt(field_stop_deg, 17)},
+          {"heads", std::to_string(heads)}};
 }
 
 namespace {
@@ -137,6 +139,8 @@ McOptions McOptions::fromKeyValues(const std::map<std::string, std::string>& kv,
   o.noise_px = r.num("noise_px");
   o.merge_arcsec = r.num("merge_arcsec");
   o.catalog = r.get("catalog");
+  o.field_stop_deg = r.num("field_stop_deg");
+  o.heads = static_cast<int>(r.uint("heads"));
   return o;
 }
 
@@ -151,6 +155,8 @@ std::string McOptions::commandLine() const {
   if (!solvers.empty()) s += " --solvers " + joinList(solvers);
   if (merge_arcsec != 60.0) s += " --merge-arcsec " + fmt(merge_arcsec);
   if (!catalog.empty()) s += " --catalog " + catalog;
+  if (field_stop_deg > 0) s += " --field-stop-deg " + fmt(field_stop_deg);
+  if (heads != 1) s += " --heads " + std::to_string(heads);
   return s;
 }
 

@@ -26,6 +26,12 @@ struct McOptions {
   double noise_px = 0.1;                ///< centroid noise 1-sigma per axis (baseline)
   double merge_arcsec = 60.0;           ///< database double-star merge distance
   std::string catalog;                  ///< catalog file; empty = the committed Hipparcos subset
+  /// [deg] circular field stop (full angle) inside the image: stars farther than half of it
+  /// from the boresight are not seen (seed 003's 30 deg "opening angle"); 0 = the image.
+  double field_stop_deg = 0;
+  /// Identical camera heads, boresights 90 deg apart (fov-selection: seed 002 Fig. 11's
+  /// "two identical star trackers"); the star counts of all heads add up.
+  int heads = 1;
 
   // --- how it is run (not stored) ---
   int threads = 1;

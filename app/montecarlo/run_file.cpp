@@ -29,7 +29,9 @@ const SectionSchema<McOptions>& storedOptionsSchema() {
           .add("solvers", &O::solvers, "Wahba solvers, comma-separated; empty = all")
           .add("noise_px", &O::noise_px, "[px] centroid noise, 1 sigma per axis")
           .add("merge_arcsec", &O::merge_arcsec, "[arcsec] database double-star merge distance")
-          .add("catalog", &O::catalog, "catalog file; empty = the committed Hipparcos subset");
+          .add("catalog", &O::catalog, "catalog file; empty = the committed Hipparcos subset")
+          .add("field_stop_deg", &O::field_stop_deg, "[deg] circular field stop (full angle); 0 = the image")
+          .add("heads", &O::heads, "camera heads, boresights 90 deg apart (fov-selection)");
   return schema;
 }
 }  // namespace

@@ -98,6 +98,12 @@ int runExperiment(McOptions o) {
     throw InputError("--fov-deg " + fmt(o.fov_deg) + ": expected (0, 120)");
   if (o.width < 8 || o.height < 8) throw InputError("--size: at least 8 x 8 pixels");
   if (o.noise_px < 0) throw InputError("--noise-px must be >= 0");
+  if (o.field_stop_deg != 0 && !exp->usesFieldStop())
+    throw InputError("--field-stop-deg " + fmt(o.field_stop_deg) + ": the " + o.experiment +
+                     " experiment has no image field to stop down");
+  if (o.heads != 1 && !exp->usesHeads())
+    throw InputError("--heads " + std::to_string(o.heads) + ": only fov-selection counts the "
+                     "stars of several heads");
   exp->configure(o);
   const std::vector<std::string> columns = exp->columns(o);
   ensureDir(o.out_dir);

@@ -41,11 +41,15 @@ Quat randomAttitude(std::mt19937_64& rng) {
   return canonical(q);
 }
 
+double fieldStop(const McOptions& o) { return deg2rad(o.field_stop_deg); }
+
 std::vector<VisibleStar> visibleStars(const StarDatabase& db, const CameraModel& cam,
-                                      const Quat& q_ib, double mag_limit) {
+                                      const Quat& q_ib, double mag_limit, double field_stop_rad) {
   std::vector<uint32_t> cone;
   const Mat3 R_ib = q_ib.toRotationMatrix();
-  db.coneQuery(R_ib.col(2), cam.halfDiagonalFov(), cone);
+  const double radius = field_stop_rad > 0 ? std::min(cam.halfDiagonalFov(), field_stop_rad / 2)
+                                           : cam.halfDiagonalFov();
+  db.coneQuery(R_ib.col(2), radius, cone);
   std::vector<VisibleStar> out;
   for (uint32_t s : cone) {
     const Star& star = db.stars()[s];

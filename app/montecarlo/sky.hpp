@@ -32,9 +32,13 @@ struct VisibleStar {
   Vec2 px;        ///< true pixel
   double mag;
 };
-/// Database stars with mag <= mag_limit that project inside the image, brightest first.
+/// Database stars with mag <= mag_limit that project inside the image and, when
+/// field_stop_rad > 0, lie within field_stop_rad / 2 of the boresight (a circular field stop,
+/// McOptions::field_stop_deg), brightest first.
 std::vector<VisibleStar> visibleStars(const StarDatabase& db, const CameraModel& cam,
-                                      const Quat& q_ib, double mag_limit);
+                                      const Quat& q_ib, double mag_limit, double field_stop_rad);
+/// The field stop of the options in radians (0 = none).
+double fieldStop(const McOptions& o);
 
 /// One error situation of the robustness tables (seed 003 Table 2 and sweeps around it).
 struct ErrorSituation {
