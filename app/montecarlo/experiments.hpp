@@ -14,5 +14,6 @@ std::unique_ptr<Experiment> makeErrorVsStars();
 std::unique_ptr<Experiment> makeTiming();
 std::unique_ptr<Experiment> makeCentroidDefocus();
 std::unique_ptr<Experiment> makeFewStars();
+std::unique_ptr<Experiment> makeNearField();
 
 }  // namespace st::app::mc
