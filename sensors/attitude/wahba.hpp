@@ -58,6 +58,9 @@ class WahbaSolver {  // r ~= R(q_ib) * b
   /// True for the optimal solvers, whose loss is Wahba's minimum (2 * loss ~ chi-square
   /// (2n - 3) under the QMM); a sub-optimal one (TRIAD) overrides it with false.
   virtual bool minimisesLoss() const { return true; }
+  /// Fewest vector pairs the method can solve (2; the least-squares DCM needs 3 independent
+  /// ones). solve() refuses fewer with a reason.
+  virtual int minVectors() const { return 2; }
 
   using Make = std::unique_ptr<WahbaSolver>();  ///< a member's factory (function type)
   using Factory = Make*;
@@ -74,6 +77,10 @@ class WahbaSolver {  // r ~= R(q_ib) * b
  private:
   virtual WahbaSolution doSolve(const std::vector<VectorObservation>& obs) const = 0;
 };
+
+/// |M^T M - I|_F of the unprojected least-squares DCM M of seed 001 eq. 31 (solver "lsq",
+/// which reports M's nearest rotation): how far the 9-unknown fit is from a rotation.
+double lsqDcmOrthogonalityDefect(const std::vector<VectorObservation>& obs);
 
 /// Wahba loss 1/2 sum_k |b_k - R(q_ib)^T r_k|^2 / sigma_k^2 of an attitude (no validation).
 double wahbaLoss(const std::vector<VectorObservation>& obs, const Quat& q_ib);
