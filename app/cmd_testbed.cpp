@@ -217,13 +217,16 @@ int runSolve(const SolveArgs& a) {
                     ypr.z(), p.ok ? "" : " -- ", p.ok ? "" : p.reason.c_str());
     }
     if (r.ok()) {
-      const Quat q_sky_body = q_sky_I * r.q_ib();  // the camera's attitude in the sky
+      // The body's attitude in the sky. Its +z is not where the screen's stars are: the
+      // database directions are from the centre of rotation, and the screen hangs above the
+      // camera, off that centre's vertical.
+      const Quat q_sky_body = q_sky_I * r.q_ib();
       const RaDecRoll rdr = raDecRollFromAttitude(q_sky_body);
       const Vec3 ypr = toYprDeg(r.q_ib());
       j["platform_ypr_deg"] = {ypr.x(), ypr.y(), ypr.z()};
       j["sky_ra_dec_roll_deg"] = {rad2deg(rdr.ra), rad2deg(rdr.dec), rad2deg(rdr.roll)};
       if (!a.json)
-        std::printf("  platform yaw/pitch/roll %.4f %.4f %.4f deg; camera in the sky: RA %.4f "
+        std::printf("  platform yaw/pitch/roll %.4f %.4f %.4f deg; in the sky (body +z): RA %.4f "
                     "Dec %.4f roll %.4f deg\n",
                     ypr.x(), ypr.y(), ypr.z(), rad2deg(rdr.ra), rad2deg(rdr.dec),
                     rad2deg(rdr.roll));
