@@ -275,8 +275,8 @@ Report NearField::summarise(const McOptions& o, const Table& t) const {
   // Table 5 as curves: stars matched and the Euler-angle scatter vs update.
   PlotSeries ours{"ours", PlotStyle::LinesPoints}, paper{"seed 001 Table 5", PlotStyle::LinesPoints};
   paper.dashed = true;
-  PlotSeries sphi{"sigma phi", PlotStyle::LinesPoints}, sth{"sigma theta", PlotStyle::LinesPoints},
-      spsi{"sigma psi", PlotStyle::LinesPoints};
+  PlotSeries sphi{"phi", PlotStyle::LinesPoints}, sth{"theta", PlotStyle::LinesPoints},
+      spsi{"psi", PlotStyle::LinesPoints};
   for (int u = 1; u <= 5; ++u) {
     const Cell& c = acc[{"updates", u}];
     ours.x.push_back(u);
@@ -285,7 +285,7 @@ Report NearField::summarise(const McOptions& o, const Table& t) const {
     paper.y.push_back(kPaperTable5Stars[u - 1]);
     for (auto [s, v] : {std::pair{&sphi, &c.phi}, {&sth, &c.theta}, {&spsi, &c.psi}}) {
       s->x.push_back(u);
-      s->y.push_back(sampleSigma(*v));
+      s->y.push_back(rms(*v));  // bias and scatter: what the updates remove
     }
   }
   Plot ps = makePlot("Stars matched vs update, prediction off by 2 deg (seed 001 Table 5)",
@@ -295,11 +295,11 @@ Report NearField::summarise(const McOptions& o, const Table& t) const {
   ps.y_min = 0;
   ps.y_max = b.star_count;
   rep.plots.push_back({"stars_vs_update", ps});
-  Plot pe = makePlot("Euler-angle scatter vs update, prediction off by 2 deg", "update",
-                     "sigma [rad]");
+  Plot pe = makePlot("Euler-angle error vs update, prediction off by 2 deg (seed 001 Fig. 6)",
+                     "update", "RMS of the Euler angle [rad]");
   pe.series = {sphi, sth, spsi};
   pe.log_y = true;
-  rep.plots.push_back({"euler_sigma_vs_update", pe});
+  rep.plots.push_back({"euler_rms_vs_update", pe});
   return rep;
 }
 
