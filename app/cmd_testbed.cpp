@@ -62,8 +62,8 @@ struct GeometryArgs {
     g.screen_distance_m = distance_m;
     g.lever_arm_m = Vec3(lever[0], lever[1], lever[2]);
     g.screen_centre_m = Vec2(centre[0], centre[1]);
-    if (const std::string p = g.problem(); !p.empty())
-      throw InputError("--distance-m/--lever-arm-m/--screen-*: " + p);
+    if (std::string why; !g.isValid(&why))
+      throw InputError("--distance-m/--lever-arm-m/--screen-*: " + why);
     return g;
   }
 };

@@ -6,20 +6,28 @@
 
 namespace st::testbed {
 
-std::string DisplayGeometry::problem() const {
+namespace {
+std::string geometryProblem(const DisplayGeometry& g) {
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  if (!positive(screen_distance_m)) return "screen distance must be > 0 m";
-  if (!lever_arm_m.allFinite()) return "lever arm must be finite";
-  if (!screen_centre_m.allFinite()) return "screen centre must be finite";
+  if (!positive(g.screen_distance_m)) return "screen distance must be > 0 m";
+  if (!g.lever_arm_m.allFinite()) return "lever arm must be finite";
+  if (!g.screen_centre_m.allFinite()) return "screen centre must be finite";
   // The camera must stay below the screen at every attitude: |R_0| < h.
-  if (!(lever_arm_m.norm() < screen_distance_m))
-    return "lever arm (|R_0| = " + std::to_string(lever_arm_m.norm()) +
-           " m) must be shorter than the screen distance (" + std::to_string(screen_distance_m) +
-           " m)";
-  if (screen_width_px < 1 || screen_height_px < 1) return "screen size in pixels must be >= 1";
-  if (!positive(screen_width_m) || !positive(screen_height_m))
+  if (!(g.lever_arm_m.norm() < g.screen_distance_m))
+    return "lever arm (|R_0| = " + std::to_string(g.lever_arm_m.norm()) +
+           " m) must be shorter than the screen distance (" +
+           std::to_string(g.screen_distance_m) + " m)";
+  if (g.screen_width_px < 1 || g.screen_height_px < 1) return "screen size in pixels must be >= 1";
+  if (!positive(g.screen_width_m) || !positive(g.screen_height_m))
     return "screen size in metres must be > 0";
   return {};
+}
+}  // namespace
+
+bool DisplayGeometry::isValid(std::string* why) const {
+  const std::string p = geometryProblem(*this);
+  if (why) *why = p;
+  return p.empty();
 }
 
 Vec3 DisplayGeometry::screenPoint(const Vec2& px) const {

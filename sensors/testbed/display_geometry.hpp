@@ -43,8 +43,9 @@ struct DisplayGeometry {
   int screen_width_px = 1920, screen_height_px = 1200;
   double screen_width_m = 0.5184, screen_height_m = 0.324;
 
-  /// Empty when valid, else what is wrong (h > |R_0|: the camera stays below the screen).
-  std::string problem() const;
+  /// The stages' one validation signature: false and *why (what is wrong) when invalid,
+  /// e.g. |R_0| >= h (the camera must stay below the screen).
+  bool isValid(std::string* why = nullptr) const;
 
   double pitchX() const { return screen_width_m / screen_width_px; }   ///< [m/px]
   double pitchY() const { return screen_height_m / screen_height_px; }  ///< [m/px]

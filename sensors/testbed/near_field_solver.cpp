@@ -6,14 +6,21 @@
 
 namespace st::testbed {
 
-std::string NearFieldOptions::problem() const {
-  if (!(tolerance > 0) || !std::isfinite(tolerance)) return "tolerance must be > 0";
-  if (iterations < 1) return "iterations must be >= 1";
-  if (!(sigma > 0) || !std::isfinite(sigma)) return "sigma must be > 0";
-  if (min_stars < 2) return "min_stars must be >= 2";
-  std::string err;
-  if (!WahbaSolver::create(solver, &err)) return "solver: " + err;
-  return {};
+bool NearFieldOptions::isValid(std::string* why) const {
+  std::string p, err;
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) {
+    p = "tolerance must be > 0";
+  } else if (iterations < 1) {
+    p = "iterations must be >= 1";
+  } else if (!(sigma > 0) || !std::isfinite(sigma)) {
+    p = "sigma must be > 0";
+  } else if (min_stars < 2) {
+    p = "min_stars must be >= 2";
+  } else if (!WahbaSolver::create(solver, &err)) {
+    p = "solver: " + err;
+  }
+  if (why) *why = p;
+  return p.empty();
 }
 
 bool NearFieldResult::ok() const { return !passes.empty() && passes.back().ok; }
@@ -25,10 +32,9 @@ Quat NearFieldResult::q_ib() const {
 NearFieldSolver::NearFieldSolver(const DisplayGeometry& geometry, std::vector<Vec3> stars,
                                  const NearFieldOptions& options)
     : geometry_(geometry), db_(std::move(stars)), options_(options) {
-  if (const std::string p = geometry_.problem(); !p.empty())
-    throw InputError("testbed geometry: " + p);
-  if (const std::string p = options_.problem(); !p.empty())
-    throw InputError("near-field options: " + p);
+  std::string why;
+  if (!geometry_.isValid(&why)) throw InputError("testbed geometry: " + why);
+  if (!options_.isValid(&why)) throw InputError("near-field options: " + why);
   solver_ = WahbaSolver::create(options_.solver);
 }
 

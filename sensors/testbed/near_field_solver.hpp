@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/conventions.hpp"
 #include "sensors/attitude/wahba.hpp"
 #include "sensors/testbed/display_geometry.hpp"
 #include "sensors/testbed/master_angle_match.hpp"
@@ -19,13 +20,13 @@ namespace st::testbed {
 struct NearFieldOptions {
   /// [rad] half-width of the angle window: the seed's "500 arc-second matching accuracy" is
   /// +-250" per angle (sec. V.A).
-  double tolerance = 250.0 / 206264.80624709636;
+  double tolerance = arcsec2rad(250.0);
   int iterations = 1;         ///< passes (the seed's "updates", 1..5 in Table 5)
   std::string solver = "quest";  ///< Wahba solver (sensors/attitude/registry.cpp)
   double sigma = 1e-4;        ///< [rad] per-star 1-sigma handed to the solver (weights, cov)
   int min_stars = 3;          ///< fewer matched stars: this pass keeps the prediction
-  /// Empty when valid, else what is wrong (naming the field).
-  std::string problem() const;
+  /// False and *why (naming the field) when invalid.
+  bool isValid(std::string* why = nullptr) const;
 };
 
 struct NearFieldPass {

@@ -88,12 +88,15 @@ TEST(DisplayGeometry, FarFieldLimitGivesTheOrdinaryAngles) {
 
 TEST(DisplayGeometry, InvalidGeometryIsNamed) {
   DisplayGeometry g;
-  EXPECT_TRUE(g.problem().empty());
+  std::string why;
+  EXPECT_TRUE(g.isValid(&why)) << why;
   g.lever_arm_m = Vec3(0, 0, 2.0);
-  EXPECT_NE(g.problem().find("lever arm"), std::string::npos);
+  EXPECT_FALSE(g.isValid(&why));
+  EXPECT_NE(why.find("lever arm"), std::string::npos);
   g = DisplayGeometry();
   g.screen_distance_m = -1;
-  EXPECT_NE(g.problem().find("screen distance"), std::string::npos);
+  EXPECT_FALSE(g.isValid(&why));
+  EXPECT_NE(why.find("screen distance"), std::string::npos);
 }
 
 TEST(MasterAngleMatch, IdentifiesAPatternAndDropsAmbiguousAngles) {
