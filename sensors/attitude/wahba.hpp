@@ -18,12 +18,13 @@
 /// from its two vectors.
 ///
 /// Family: `solve()` validates the input, times the call and keeps the quaternion canonical;
-/// implementers override the private doSolve(), which may assume at least two finite unit vector
-/// pairs with positive finite sigmas and non-parallel geometry. Names and help come from the one
-/// table in registry.cpp: a new solver is its own file defining `std::unique_ptr<WahbaSolver>
-/// makeXSolver()` plus one line in that table (or, for a solver compiled into an executable,
-/// one ST_REGISTER_FAMILY_MEMBER line, common/family_registry.hpp). The shared property suite
-/// (tests/support/wahba_test_utils.hpp) runs over every registered name.
+/// implementers override the private doSolve(), which may assume at least minVectors() (2)
+/// finite unit vector pairs with positive finite sigmas and non-parallel geometry. Names and
+/// help come from the one table in registry.cpp: a new solver is its own file defining
+/// `std::unique_ptr<WahbaSolver> makeXSolver()` plus one line in that table (or, for a solver
+/// compiled into an executable, one ST_REGISTER_FAMILY_MEMBER line,
+/// common/family_registry.hpp). The shared property suite (tests/support/wahba_test_utils.hpp)
+/// runs over every registered name.
 #pragma once
 #include <memory>
 #include <string>
