@@ -13,6 +13,7 @@ void addMontecarloCommand(CLI::App& root, CommandRun& run);
 void addReplayCommand(CLI::App& root, CommandRun& run);
 void addSimulateCommand(CLI::App& root, CommandRun& run);
 void addSolveCommand(CLI::App& root, CommandRun& run);
+void addTestbedCommand(CLI::App& root, CommandRun& run);
 
 void addAllCommands(CLI::App& root, CommandRun& run) {
   addCalibrateCommand(root, run);
@@ -25,6 +26,7 @@ void addAllCommands(CLI::App& root, CommandRun& run) {
   addReplayCommand(root, run);
   addSimulateCommand(root, run);
   addSolveCommand(root, run);
+  addTestbedCommand(root, run);
 }
 
 }  // namespace st::app

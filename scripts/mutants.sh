@@ -129,6 +129,15 @@ mutant dark-median sensors/detect/dark_frame.cpp \
   's/const auto mid = v.begin\(\) \+ \(n - 1\) \/ 2;/const auto mid = v.begin() + (n - 1);/' \
   $DT 'DarkMedian.*' \
   "seed 004 sec. 4.1: the master dark is the per-pixel median (here: the maximum)"
+TB=st_test_testbed
+mutant near-field-correction sensors/testbed/display_geometry.cpp \
+  's/return \(lever_arm_m \+ \*a \* b_B\)\.normalized\(\);  \/\/ seed 001 eq\. 54/return b_B;  \/\/ seed 001 eq. 54/' \
+  $TB 'NearFieldSolver.*:DisplayGeometry.*' \
+  "seed 001 eq. 54-56: the camera vectors corrected to the near-field vectors R_0 + alpha_i b_i"
+mutant near-field-iteration sensors/testbed/near_field_solver.cpp \
+  's/    q = r\.passes\.back\(\)\.q_ib;  \/\/ the estimate is the next prediction/    (void)0;  \/\/ the estimate is the next prediction/' \
+  $TB 'NearFieldSolver.*:TestbedDrawSolve.*' \
+  "seed 001 sec. IV.B: each update's estimate is the next update's prediction"
 mutant dynamic-threshold sensors/detect/star_detector.cpp \
   's/k_ = std::max\(opts_.dynamic_min_sigma, k_ - opts_.dynamic_step_sigma\);/(void)0;/' \
   $DT 'DynamicThreshold.*' \

@@ -24,6 +24,7 @@ const std::vector<Entry>& registry() {
       {"centroid-defocus", "centroid error vs PSF width (defocus) and SNR, and centroider time per magnitude, weighted sum vs maximum likelihood (seed 004 Figs. 4.4-4.5, Table 4.2)", makeCentroidDefocus},
       {"few-stars", "lost-in-space with 2-3 stars by the magnitude tie-break vs Pyramid alone in seed 000's camera: solved fraction vs fraction with >= 3 stars, wrong attitudes (seed 000, issue 17)", makeFewStars},
       {"magnitude-error", "measured minus assigned magnitude of 20 stars per image at V = 0..4 in the camera of seed 004 Table 5.2 (seed 004 Table 5.3)", makeMagnitudeError},
+      {"near-field", "seed 001 Tables 1-5 on the near-field star display: stars matched and Euler-angle errors vs the prediction error and over updates of the iterative solution (run with --runs 250 --fov-deg 30 --size 640 480 --noise-px 0.25)", makeNearField},
   };
   return table;
 }

@@ -15,5 +15,6 @@ std::unique_ptr<Experiment> makeTiming();
 std::unique_ptr<Experiment> makeCentroidDefocus();
 std::unique_ptr<Experiment> makeFewStars();
 std::unique_ptr<Experiment> makeMagnitudeError();
+std::unique_ptr<Experiment> makeNearField();
 
 }  // namespace st::app::mc

@@ -68,6 +68,9 @@ WahbaSolution WahbaSolver::solve(const std::vector<VectorObservation>& obs) cons
   const auto t0 = std::chrono::steady_clock::now();
   WahbaSolution sol;
   sol.reason = validate(obs);
+  if (sol.reason.empty() && static_cast<int>(obs.size()) < minVectors())
+    sol.reason = name() + ": needs at least " + std::to_string(minVectors()) +
+                 " vector observations, got " + std::to_string(obs.size());
   if (sol.reason.empty()) {
     sol = doSolve(obs);
     if (sol.ok &&

@@ -18,12 +18,13 @@
 /// from its two vectors.
 ///
 /// Family: `solve()` validates the input, times the call and keeps the quaternion canonical;
-/// implementers override the private doSolve(), which may assume at least two finite unit vector
-/// pairs with positive finite sigmas and non-parallel geometry. Names and help come from the one
-/// table in registry.cpp: a new solver is its own file defining `std::unique_ptr<WahbaSolver>
-/// makeXSolver()` plus one line in that table (or, for a solver compiled into an executable,
-/// one ST_REGISTER_FAMILY_MEMBER line, common/family_registry.hpp). The shared property suite
-/// (tests/support/wahba_test_utils.hpp) runs over every registered name.
+/// implementers override the private doSolve(), which may assume at least minVectors() (2)
+/// finite unit vector pairs with positive finite sigmas and non-parallel geometry. Names and
+/// help come from the one table in registry.cpp: a new solver is its own file defining
+/// `std::unique_ptr<WahbaSolver> makeXSolver()` plus one line in that table (or, for a solver
+/// compiled into an executable, one ST_REGISTER_FAMILY_MEMBER line,
+/// common/family_registry.hpp). The shared property suite (tests/support/wahba_test_utils.hpp)
+/// runs over every registered name.
 #pragma once
 #include <memory>
 #include <string>
@@ -58,6 +59,9 @@ class WahbaSolver {  // r ~= R(q_ib) * b
   /// True for the optimal solvers, whose loss is Wahba's minimum (2 * loss ~ chi-square
   /// (2n - 3) under the QMM); a sub-optimal one (TRIAD) overrides it with false.
   virtual bool minimisesLoss() const { return true; }
+  /// Fewest vector pairs the method can solve (2; the least-squares DCM needs 3 independent
+  /// ones). solve() refuses fewer with a reason.
+  virtual int minVectors() const { return 2; }
 
   using Make = std::unique_ptr<WahbaSolver>();  ///< a member's factory (function type)
   using Factory = Make*;
@@ -74,6 +78,10 @@ class WahbaSolver {  // r ~= R(q_ib) * b
  private:
   virtual WahbaSolution doSolve(const std::vector<VectorObservation>& obs) const = 0;
 };
+
+/// |M^T M - I|_F of the unprojected least-squares DCM M of seed 001 eq. 31 (solver "lsq",
+/// which reports M's nearest rotation): how far the 9-unknown fit is from a rotation.
+double lsqDcmOrthogonalityDefect(const std::vector<VectorObservation>& obs);
 
 /// Wahba loss 1/2 sum_k |b_k - R(q_ib)^T r_k|^2 / sigma_k^2 of an attitude (no validation).
 double wahbaLoss(const std::vector<VectorObservation>& obs, const Quat& q_ib);
