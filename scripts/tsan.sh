@@ -29,6 +29,9 @@ if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [[ "$seconds" -lt 1 ]]; then
   exit 2
 fi
 
+# Before the build too: gtest_discover_tests runs each test program at build time.
+export TSAN_OPTIONS="halt_on_error=0 exitcode=66 second_deadlock_stack=1 suppressions=$repo/scripts/tsan.supp ${TSAN_OPTIONS:-}"
+
 if [[ $do_build == 1 ]]; then
   launcher=()
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
@@ -37,7 +40,6 @@ if [[ $do_build == 1 ]]; then
   cmake --build "$build" -j"$(nproc)" --target startracker st_test_sim st_test_mrpt
 fi
 
-export TSAN_OPTIONS="halt_on_error=0 exitcode=66 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 fail=0
@@ -59,7 +61,12 @@ if [[ $do_tests == 1 ]]; then
   # sensor. (The live app itself ran above, instrumented; its gtest suite would add a long
   # TSan build of every app test for the same code.)
   echo "tsan: sensor-thread tests"
+  # Left out: the two tests that load the plugin into MRPT's stock rawlog-grabber. A TSan
+  # library cannot be dlopen'ed by an uninstrumented program ("libtsan.so.2: cannot allocate
+  # memory in static TLS block"); the live app above is the instrumented host of the same
+  # sensor threads.
   ctest --test-dir "$build" -R '^(SimulatedSensors|StarTrackerSensor)' \
+    -E 'StockRawlogGrabber|ProductionPluginDoesNotContainTheSimulator' \
     --output-on-failure -j2 || fail=1
 fi
 if [[ $fail != 0 ]]; then

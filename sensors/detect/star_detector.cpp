@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/check.hpp"
+#include "common/cpu_clones.hpp"
 #include "common/errors.hpp"
 #include "sensors/detect/detect_internal.hpp"
 
@@ -73,17 +74,12 @@ double Moments::minorVariance() const {
 
 // Largest of n pixel values: a plain max reduction, vectorised (unsigned integer max needs
 // SSE4.1 or AVX2, hence the clones); the search windows of fast-moving stars are ~1000 pixels.
-#if defined(__GNUC__) && defined(__x86_64__)
-#define ST_PIXEL_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define ST_PIXEL_CLONES
-#endif
-ST_PIXEL_CLONES int maxOf(const uint8_t* p, int n) {
+ST_AVX2_CLONES int maxOf(const uint8_t* p, int n) {
   uint8_t m = 0;
   for (int i = 0; i < n; ++i) m = std::max(m, p[i]);
   return m;
 }
-ST_PIXEL_CLONES int maxOf(const uint16_t* p, int n) {
+ST_AVX2_CLONES int maxOf(const uint16_t* p, int n) {
   uint16_t m = 0;
   for (int i = 0; i < n; ++i) m = std::max(m, p[i]);
   return m;

@@ -4,15 +4,15 @@
 #include <cmath>
 #include <vector>
 
+#include "common/cpu_clones.hpp"
+
 namespace st::detail {
 
 namespace {
 
 // Flat weights (CoG) in one pass: with d_i = p_i - x the sums of the header expand into raw
 // moments in window coordinates (small numbers, no cancellation), accumulated per row.
-#if defined(__GNUC__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+ST_AVX2_CLONES
 bool flatCentroid(const StarPatch& patch, Centroid& out, std::string* reason) {
   const cv::Mat1f& v = patch.values;
   const double b = patch.background, var0 = patch.sigma_bg * patch.sigma_bg;
