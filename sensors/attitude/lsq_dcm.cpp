@@ -32,6 +32,17 @@ namespace {
 /// the 3x3 solve (relative error ~ eps / ratio) to stay below 1e-3 of the statistical error.
 constexpr double kMinEigenRatio = 1e-8;
 
+/// The normal equations' pieces: G = sum a_k b_k b_k^T, C = sum a_k r_k b_k^T (a_k = 1/sigma^2).
+void normalSums(const std::vector<VectorObservation>& obs, Mat3& G, Mat3& C) {
+  G.setZero();
+  C.setZero();
+  for (const VectorObservation& o : obs) {
+    const double a = 1.0 / (o.sigma * o.sigma);
+    G.noalias() += a * o.b * o.b.transpose();
+    C.noalias() += a * o.r * o.b.transpose();
+  }
+}
+
 class LsqDcmSolver final : public WahbaSolver {
  public:
   std::string name() const override { return "lsq"; }
@@ -40,12 +51,8 @@ class LsqDcmSolver final : public WahbaSolver {
 
  private:
   WahbaSolution doSolve(const std::vector<VectorObservation>& obs) const override {
-    Mat3 G = Mat3::Zero(), C = Mat3::Zero();
-    for (const VectorObservation& o : obs) {
-      const double a = 1.0 / (o.sigma * o.sigma);
-      G.noalias() += a * o.b * o.b.transpose();
-      C.noalias() += a * o.r * o.b.transpose();
-    }
+    Mat3 G, C;
+    normalSums(obs, G, C);
     WahbaSolution sol;
     Eigen::SelfAdjointEigenSolver<Mat3> eig(G);
     const Vec3 ev = eig.eigenvalues();  // ascending
@@ -82,12 +89,8 @@ std::unique_ptr<WahbaSolver> makeLsqDcmSolver() { return std::make_unique<LsqDcm
 /// Non-orthogonality of the unprojected least-squares matrix, |M^T M - I|_F (for the tests
 /// and reports: seed 001's eq. 31 returns M, not a rotation).
 double lsqDcmOrthogonalityDefect(const std::vector<VectorObservation>& obs) {
-  Mat3 G = Mat3::Zero(), C = Mat3::Zero();
-  for (const VectorObservation& o : obs) {
-    const double a = 1.0 / (o.sigma * o.sigma);
-    G.noalias() += a * o.b * o.b.transpose();
-    C.noalias() += a * o.r * o.b.transpose();
-  }
+  Mat3 G, C;
+  normalSums(obs, G, C);
   const Mat3 M = C * G.inverse();
   return (M.transpose() * M - Mat3::Identity()).norm();
 }
