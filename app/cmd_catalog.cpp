@@ -181,6 +181,8 @@ void printDatabase(const StarDatabase& db, const std::string& path) {
   std::printf("  after mag limit      %zu\n", r.after_mag_limit);
   std::printf("  after density        %zu\n", r.after_density);
   std::printf("  stars                %zu\n", db.stars().size());
+  std::printf("  blend-screen stars   %zu (not identified; their light screens tracking windows)\n",
+              db.screenStars().size());
   std::printf("  pairs                %zu\n", db.pairs().size());
   std::printf("  k-vector size        %zu\n", db.pairKVector().size());
   std::printf("  neighbour entries    %zu (%.1f per star)\n", r.neighbour_entries,

@@ -2,7 +2,7 @@
 //   magic "STARDB\r\n" | uint32 format version | uint32 byte-order mark 0x01020304 |
 //   build parameters | build report (incl. catalog name and epoch; format 2 adds the catalog
 //   path, its depth and the requested magnitude limit) | stars | pairs |
-//   neighbour table | uint32 CRC-32 (zlib) of every byte before it.
+//   neighbour table | (format 3) screen stars | uint32 CRC-32 (zlib) of every byte before it.
 // Pair and neighbour indices are stored as uint16 when there are < 65536 stars (that keeps a
 // 15 deg / V 6.5 database under 10 MB). The pair k-vector and the cone index are not stored:
 // they are rebuilt from the stored, sorted values in one O(n) pass at load (a few ms), so
@@ -22,8 +22,9 @@ namespace {
 
 constexpr char kMagic[8] = {'S', 'T', 'A', 'R', 'D', 'B', '\r', '\n'};
 // 2: the report records the catalog file, its depth and the requested limit (issue 21).
-// Format 1 files still load, without those three.
-constexpr uint32_t kFormatVersion = 2;
+// 3: the blend screen's stars (ScreenStar) after the neighbour table.
+// Format 1 and 2 files still load, without what came later.
+constexpr uint32_t kFormatVersion = 3;
 constexpr uint32_t kOldestReadableVersion = 1;
 constexpr uint32_t kByteOrderMark = 0x01020304;
 
@@ -145,6 +146,13 @@ void StarDatabase::save(const std::string& path) const {
   }
   for (uint32_t v : nbr_start_) w.put(v);
   for (uint32_t v : nbr_) putIndex(v);
+  w.put(uint32_t(screen_.size()));
+  for (const ScreenStar& s : screen_) {
+    w.put(s.u_i.x());
+    w.put(s.u_i.y());
+    w.put(s.u_i.z());
+    w.put(s.mag);
+  }
   w.put(crc32Of(w.buf.data(), w.buf.size()));
 
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -274,6 +282,18 @@ void readNeighbours(Reader& rd, const std::string& path, uint8_t width, uint32_t
   }
 }
 
+void readScreenStars(Reader& rd, std::vector<ScreenStar>& screen) {
+  const uint32_t n = rd.get<uint32_t>("screen star count");
+  rd.need(std::size_t(n) * 28, "screen stars");
+  screen.resize(n);
+  for (ScreenStar& s : screen) {
+    const double x = rd.get<double>("screen stars"), y = rd.get<double>("screen stars"),
+                 z = rd.get<double>("screen stars");
+    s.u_i = Vec3(x, y, z);
+    s.mag = rd.get<float>("screen stars");
+  }
+}
+
 }  // namespace
 
 StarDatabase StarDatabase::load(const std::string& path) {
@@ -295,6 +315,8 @@ StarDatabase StarDatabase::load(const std::string& path) {
     throw InputError(path + ": star database has an invalid index width " + std::to_string(width));
   readPairs(rd, path, body, width, n, db.pairs_);
   readNeighbours(rd, path, width, n, db.nbr_start_, db.nbr_);
+  if (version >= 3) readScreenStars(rd, db.screen_);
+  r.screen_stars = db.screen_.size();
   if (rd.pos() != body)
     throw InputError(path + ": star database has " + std::to_string(body - rd.pos()) +
                      " unexpected bytes before the checksum");

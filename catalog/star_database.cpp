@@ -17,8 +17,9 @@
 namespace st {
 namespace {
 
-// Stars up to this much fainter than the limit enter the double-star merge: a companion
-// 2.5 mag fainter still brightens the blend by 0.10 mag and shifts its centroid.
+// Stars up to this much fainter than the limit enter the double-star merge and, if not
+// merged, the blend screen: a companion 2.5 mag fainter still brightens the blend by 0.10 mag
+// and pulls its centroid by a tenth of their separation.
 constexpr double kMergeMagMargin = 2.5;
 
 // Fibonacci lattice of n nearly uniform directions (centres of the density-reduction cones).
@@ -94,8 +95,7 @@ void say(const StarDatabase::ProgressFn& progress, const std::string& m) {
 std::vector<SelectedStar> epochCorrectedCandidates(const StarCatalog& cat,
                                                    const DatabaseParams& params,
                                                    const StarDatabase::ProgressFn& progress) {
-  const double merge_limit =
-      params.double_star_sep > 0 ? params.mag_limit + kMergeMagMargin : params.mag_limit;
+  const double merge_limit = params.mag_limit + kMergeMagMargin;
   say(progress, "correcting " + std::to_string(cat.entries.size()) +
                     " catalog positions to epoch " + std::to_string(params.epoch_jyear));
   const EarthState earth = earthBarycentricState(params.epoch_jyear);
@@ -111,24 +111,28 @@ std::vector<SelectedStar> epochCorrectedCandidates(const StarCatalog& cat,
 }
 
 // 2. Double stars (seed 004 eqs. 6.1/6.2), then 3. the magnitude limit on the blends; the
-// survivors brightest first.
+// survivors brightest first. The fainter ones go to `screen`.
 void mergeAndLimit(std::vector<SelectedStar>& sel, const DatabaseParams& params,
-                   BuildReport& rep, const StarDatabase::ProgressFn& progress) {
+                   BuildReport& rep, std::vector<ScreenStar>& screen,
+                   const StarDatabase::ProgressFn& progress) {
   say(progress, "merging double stars among " + std::to_string(sel.size()) + " candidates");
   sel = mergeDoubleStars(sel, params.double_star_sep, &rep.double_star_groups,
                          &rep.stars_merged_away);
-  sel.erase(std::remove_if(sel.begin(), sel.end(),
-                           [&](const SelectedStar& s) { return !(s.mag <= params.mag_limit); }),
-            sel.end());
-  rep.after_mag_limit = sel.size();
   std::sort(sel.begin(), sel.end(), [](const SelectedStar& a, const SelectedStar& b) {
     return a.mag != b.mag ? a.mag < b.mag : a.id < b.id;
   });
+  const auto faint = std::partition_point(
+      sel.begin(), sel.end(), [&](const SelectedStar& s) { return s.mag <= params.mag_limit; });
+  for (auto it = faint; it != sel.end(); ++it) screen.push_back({it->u, float(it->mag)});
+  sel.erase(faint, sel.end());
+  rep.after_mag_limit = sel.size();
 }
 
 // 4. Uniform density (seed 004 sec. 5.5.4): sweep cone centres over the sky and keep the
 // N brightest stars of every cone; a star survives if some cone keeps it.
+// The stars it drops go to `screen`.
 std::vector<Star> uniformDensityStars(const StarDatabase& db, const DatabaseParams& params,
+                                      std::vector<ScreenStar>& screen,
                                       const StarDatabase::ProgressFn& progress) {
   const double radius =
       params.region_radius > 0 ? params.region_radius : params.max_pair_angle / 2;
@@ -147,6 +151,7 @@ std::vector<Star> uniformDensityStars(const StarDatabase& db, const DatabasePara
   std::vector<Star> kept;
   for (std::size_t i = 0; i < stars.size(); ++i)
     if (keep[i]) kept.push_back(stars[i]);
+    else screen.push_back({stars[i].u_i, stars[i].mag});
   return kept;
 }
 
@@ -171,7 +176,7 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
 
   std::vector<SelectedStar> sel = epochCorrectedCandidates(cat, params, progress);
   rep.merge_candidates = sel.size();
-  mergeAndLimit(sel, params, rep, progress);
+  mergeAndLimit(sel, params, rep, db.screen_, progress);
   if (sel.empty()) {
     double brightest = cat.entries.empty() ? 0 : cat.entries[0].vmag;
     for (const CatalogEntry& e : cat.entries) brightest = std::min(brightest, e.vmag);
@@ -180,13 +185,16 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
   }
   db.stars_.reserve(sel.size());
   for (const SelectedStar& s : sel) db.stars_.push_back({s.id, s.u, float(s.mag)});
-  db.buildIndexes();
-  if (params.max_stars_per_region > 0 && !db.stars_.empty()) {
-    std::vector<Star> kept = uniformDensityStars(db, params, progress);
+  if (params.max_stars_per_region > 0) {
+    db.buildIndexes();  // the density reduction's cone queries
+    std::vector<Star> kept = uniformDensityStars(db, params, db.screen_, progress);
     db.stars_.swap(kept);
-    db.buildIndexes();
   }
   rep.after_density = db.stars_.size();
+  std::stable_sort(db.screen_.begin(), db.screen_.end(),
+                   [](const ScreenStar& a, const ScreenStar& b) { return a.mag < b.mag; });
+  rep.screen_stars = db.screen_.size();
+  db.buildIndexes();
 
   // 5. Pairs + k-vector, 6. neighbour table.
   say(progress, "building star pairs and k-vector for " + std::to_string(db.stars_.size()) +
@@ -203,22 +211,12 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
 }
 
 void StarDatabase::buildIndexes() {
-  const std::size_t n = stars_.size();
-  for (int c = 0; c < 3; ++c) {
-    AxisIndex& ax = axis_[c];
-    ax.order.resize(n);
-    std::iota(ax.order.begin(), ax.order.end(), 0u);
-    std::sort(ax.order.begin(), ax.order.end(), [&](uint32_t a, uint32_t b) {
-      return stars_[a].u_i[c] != stars_[b].u_i[c] ? stars_[a].u_i[c] < stars_[b].u_i[c] : a < b;
-    });
-    ax.u.resize(n);
-    ax.coord.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      ax.u[k] = stars_[ax.order[k]].u_i;
-      ax.coord[k] = ax.u[k][c];
-    }
-    ax.kv.build(n, [&](std::size_t k) { return ax.coord[k]; });
-  }
+  std::vector<Vec3> u(stars_.size());
+  for (std::size_t k = 0; k < u.size(); ++k) u[k] = stars_[k].u_i;
+  cone_.build(u);
+  u.resize(screen_.size());
+  for (std::size_t k = 0; k < u.size(); ++k) u[k] = screen_[k].u_i;
+  screen_cone_.build(u);
 }
 
 void StarDatabase::buildPairs() {
@@ -266,36 +264,7 @@ PairSlice StarDatabase::pairsInRange(double theta_lo, double theta_hi) const {
 }
 
 void StarDatabase::coneQuery(const Vec3& axis_i, double radius, std::vector<uint32_t>& out) const {
-  out.clear();
-  const std::size_t n = stars_.size();
-  if (n == 0 || !(radius >= 0)) return;
-  const Vec3 w = axis_i.normalized();
-  const double cos_r = std::cos(radius);
-  if (radius >= kPi) {
-    out.resize(n);
-    std::iota(out.begin(), out.end(), 0u);
-    return;
-  }
-  // Seed 002 spherical-polygon search: a star within `radius` of w has, on each axis c, an
-  // angle to that axis within [alpha_c - r, alpha_c + r] (alpha_c = acos w_c), i.e. its
-  // coordinate lies in a slab found by the k-vector on that coordinate. Take the thinnest
-  // of the three slabs and test the candidates in it.
-  std::pair<std::size_t, std::size_t> best{0, n};
-  int best_c = 0;
-  for (int c = 0; c < 3; ++c) {
-    const double alpha = std::acos(std::clamp(w[c], -1.0, 1.0));
-    const double lo = std::cos(std::min(kPi, alpha + radius)) - 1e-12;
-    const double hi = std::cos(std::max(0.0, alpha - radius)) + 1e-12;
-    const auto r = axis_[c].kv.range(lo, hi, [&](std::size_t k) { return axis_[c].coord[k]; });
-    if (r.second - r.first < best.second - best.first) {
-      best = r;
-      best_c = c;
-    }
-  }
-  const AxisIndex& ax = axis_[best_c];
-  for (std::size_t k = best.first; k < best.second; ++k)
-    if (ax.u[k].dot(w) >= cos_r) out.push_back(ax.order[k]);
-  std::sort(out.begin(), out.end());
+  cone_.query(axis_i, radius, out);
 }
 
 void StarDatabase::rectangleQuery(const Quat& q_ib, double tan_half_x, double tan_half_y,

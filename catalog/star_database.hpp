@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "catalog/cone_index.hpp"
 #include "catalog/kvector.hpp"
 #include "catalog/star_catalog.hpp"
 #include "common/attitude.hpp"
@@ -21,6 +22,14 @@ struct Star {
   uint32_t id;  ///< catalog id (HIP or HR); for a merged double star the brightest member's
   Vec3 u_i;     ///< unit vector, ICRS at the database epoch
   float mag;    ///< V magnitude (combined for a merged double star)
+};
+
+/// A star the database does not identify but whose light can fall on one it does: fainter
+/// than the limit by up to the merge margin, or dropped by the uniform-density reduction.
+/// Only its place and brightness are kept: the tracking windows' blend screen.
+struct ScreenStar {
+  Vec3 u_i;   ///< unit vector, ICRS at the database epoch
+  float mag;  ///< V magnitude
 };
 
 struct StarPair {
@@ -68,6 +77,7 @@ struct BuildReport {
   std::size_t stars_merged_away = 0;      ///< stars absorbed into a brighter member
   std::size_t after_mag_limit = 0;        ///< after the merge, V <= mag_limit
   std::size_t after_density = 0;          ///< after the uniform-density reduction
+  std::size_t screen_stars = 0;           ///< candidates not kept: the blend screen
   std::size_t pairs = 0;
   std::size_t kvector_size = 0;
   std::size_t neighbour_entries = 0;
@@ -86,7 +96,8 @@ class StarDatabase {
   /// Writes the versioned binary file; throws InputError if it cannot be written.
   void save(const std::string& path) const;
   /// InputError (naming the file) on bad magic/version/checksum or a truncated file. Reads
-  /// format 2 and the older format 1 (no catalog path, depth or requested limit).
+  /// format 3 and the older 2 (no blend-screen stars) and 1 (nor catalog path, depth or
+  /// requested limit).
   static StarDatabase load(const std::string& path);
 
   const std::vector<Star>& stars() const { return stars_; }  ///< sorted brightest first
@@ -111,12 +122,20 @@ class StarDatabase {
   void rectangleQuery(const Quat& q_ib, double tan_half_x, double tan_half_y,
                       std::vector<uint32_t>& out) const;
 
+  /// Stars kept only for the blend screen (ScreenStar), brightest first; empty in a database
+  /// file of format < 3.
+  const std::vector<ScreenStar>& screenStars() const { return screen_; }
+  /// Indices into screenStars() within `radius` of `axis_i`, ascending. `out` is cleared.
+  void screenConeQuery(const Vec3& axis_i, double radius, std::vector<uint32_t>& out) const {
+    screen_cone_.query(axis_i, radius, out);
+  }
+
   /// Neighbours of star i within params().neighbour_radius, nearest first (seed 002 Table I).
   const uint32_t* neighboursBegin(uint32_t i) const { return nbr_.data() + nbr_start_[i]; }
   const uint32_t* neighboursEnd(uint32_t i) const { return nbr_.data() + nbr_start_[i + 1]; }
 
  private:
-  void buildIndexes();  ///< axis-sorted arrays + k-vectors from stars_ (also after load)
+  void buildIndexes();  ///< the cone indexes of stars_ and screen_ (also after load)
   void buildPairs();
   void buildNeighbours();
 
@@ -125,15 +144,9 @@ class StarDatabase {
   std::vector<Star> stars_;
   std::vector<StarPair> pairs_;
   KVector pair_kv_;
-  // Cone index (seed 002): for each axis c, star indices sorted by u_i[c], the sorted
-  // coordinates, and the k-vector on them; plus coordinates in that order for a tight loop.
-  struct AxisIndex {
-    std::vector<uint32_t> order;
-    std::vector<Vec3> u;     ///< u_i of order[k], contiguous for the candidate loop
-    std::vector<double> coord;
-    KVector kv;
-  };
-  AxisIndex axis_[3];
+  ConeIndex cone_;         ///< over stars_ (seed 002)
+  std::vector<ScreenStar> screen_;
+  ConeIndex screen_cone_;  ///< over screen_
   std::vector<uint32_t> nbr_start_{0};
   std::vector<uint32_t> nbr_;
 };

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "common/conventions.hpp"
+
 namespace st {
 
 double combinedMagnitude(double m1, double m2) {
@@ -40,7 +42,7 @@ std::vector<SelectedStar> mergeDoubleStars(const std::vector<SelectedStar>& in, 
   std::vector<uint32_t> brightest(n, UINT32_MAX), members(n, 0);
   for (uint32_t k = 0; k < n; ++k) {
     const uint32_t r = find(k);
-    const double f = std::pow(10.0, -0.4 * in[k].mag);
+    const double f = relativeFlux(in[k].mag);
     flux[r] += f;
     dir[r] += f * in[k].u;  // eq. 6.2: weights 10^((M - M_i)/2.5) = I_i / I_total
     ++members[r];

@@ -4,6 +4,7 @@
 /// attitude-error metrics (total, cross-boresight, roll).
 #pragma once
 #include <Eigen/Core>
+#include <cmath>
 #include <Eigen/Geometry>
 
 namespace st {
@@ -24,6 +25,12 @@ Mat3 skew(const Vec3& v);
 Quat quatExp(const Vec3& rotvec);
 /// Rotation vector of q (angle in [0, pi]); inverse of quatExp for canonical q.
 Vec3 quatLog(const Quat& q);
+
+/// [rad] angle between two directions (not necessarily unit): atan2(|a x b|, a.b), accurate at
+/// the small angles of star pairs where acos(a.b) loses half its digits.
+inline double angleBetween(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
 
 /// Unit vector of a direction given by right ascension and declination [rad].
 Vec3 unitVectorFromRaDec(double ra, double dec);

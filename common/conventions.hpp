@@ -42,6 +42,7 @@
 ///   mrpt::Clock::time_point in observations; seconds as double in CSV; epochs of star
 ///   positions as Julian years (TT ~ UTC at the accuracy needed here), e.g. 2019.573.
 #pragma once
+#include <cmath>
 
 namespace st {
 
@@ -76,5 +77,8 @@ constexpr double unixSecondsFromJulianYear(double jyear) {
 /// Speed of light [km/s] and the astronomical unit [km], for aberration.
 constexpr double kSpeedOfLightKmS = 299792.458;
 constexpr double kAuKm = 149597870.7;
+
+/// Flux of a star of V magnitude `vmag` relative to one of V 0 (Pogson: 5 mag = 100x).
+inline double relativeFlux(double vmag) { return std::pow(10.0, -0.4 * vmag); }
 
 }  // namespace st

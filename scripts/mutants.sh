@@ -111,6 +111,10 @@ mutant drop-saturated-min-stars sensors/identify/recursive_id.cpp \
   's/if \(int\(unsaturated\) < opts_.min_stars \|\| /if (/' \
   $TR 'RecursiveIdRules.*' \
   "drop_saturated keeps saturated stars when fewer than min_stars others remain"
+mutant blend-screen sensors/identify/recursive_id.cpp \
+  's/if \(f \/ \(1 \+ f\) \* d.norm\(\) > max_pull\) return true;/if (f \/ (1 + f) * d.norm() > max_pull + 1e9) return true;/' \
+  $TR 'BlendScreen.*' \
+  "blend screen: a star an uncatalogued fainter neighbour pulls is not windowed"
 mutant streaked-lis-remeasure sensors/tracking/star_tracker.cpp \
   's/^constexpr double kStreakedPx = 2.0;/constexpr double kStreakedPx = 2.0e9;/' \
   $TR 'LostInSpaceCovariance.*' \
@@ -143,7 +147,7 @@ mutant dynamic-threshold sensors/detect/star_detector.cpp \
   $DT 'DynamicThreshold.*' \
   "seed 004 sec. 8.2.3: a sparse frame lowers the next frame's threshold"
 mutant streak-pieces sensors/detect/streaks.cpp \
-  's/s.length = std::max\(s.length, chainedLength\(/s.length = std::max(s.length, 0 * chainedLength(/' \
+  's/chainedLength\(stars, k, streakLength\(c\), u, 1.5 \* psf, 3.0 \* psf\)/chainedLength(stars, k, streakLength(c), u, -1.0, 3.0 * psf)/' \
   $DT 'StreakShapes.*' \
   "blind streak length: pieces of a broken streak joined (their own lengths set 5 px for 13 px)"
 APP=startracker

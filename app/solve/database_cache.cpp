@@ -23,7 +23,7 @@ namespace {
 
 /// Bumped when the database file format or the build changes in a way the parameters do not
 /// show, so that old cache files are never mistaken for current ones.
-constexpr int kCacheGeneration = 1;
+constexpr int kCacheGeneration = 2;  // 2: blend-screen stars (database format 3)
 
 std::uint64_t fnv1a(const std::string& s) {
   std::uint64_t h = 1469598103934665603ull;

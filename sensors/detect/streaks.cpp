@@ -62,29 +62,25 @@ void measureStreaks(const cv::Mat& image, const std::function<Vec2(const Vec2&)>
 
 namespace {
 
-/// [px] the length a blob's second moments give (a streak of length L along a PSF of sigma s
-/// has L^2/12 + s^2 along and s^2 across, so L = sqrt(12 (l1 - l2))) and its axis angle
-/// doubled (an axis has no sign).
-void streakShape(const Centroid& c, double& length, double& twice_angle) {
+/// [px] the length a blob's second moments give: a streak of length L along a PSF of sigma s
+/// has L^2/12 + s^2 along and s^2 across, so L = sqrt(12 (l1 - l2)).
+double streakLength(const Centroid& c) {
   const double a = c.shape(0, 0), b = c.shape(1, 1), x = c.shape(0, 1);
-  const double dd = std::sqrt(0.25 * (a - b) * (a - b) + x * x);  // (l1 - l2) / 2
-  length = std::sqrt(12.0 * 2.0 * dd);
-  twice_angle = std::atan2(2.0 * x, a - b);
+  return std::sqrt(12.0 * 2.0 * std::sqrt(0.25 * (a - b) * (a - b) + x * x));  // l1 - l2
 }
 
-/// [px] the extent along `u` of the streak that blob `k` belongs to: a faint or shallow
-/// streak breaks where the noise dips below the threshold, and its pieces are blobs on one
-/// line, each shorter than the streak. Pieces within `across_px` of the line and `gap_px` of
-/// the growing segment's ends join it.
-double chainedLength(const std::vector<Centroid>& stars, std::size_t k, const Vec2& u,
-                     double across_px, double gap_px) {
-  double lo = 0, hi = 0;
-  {
-    double len = 0, twice = 0;
-    streakShape(stars[k], len, twice);
-    lo = -0.5 * len;
-    hi = 0.5 * len;
-  }
+/// Twice the blob's major axis angle (an axis has no sign).
+double twiceAxisAngle(const Centroid& c) {
+  return std::atan2(2.0 * c.shape(0, 1), c.shape(0, 0) - c.shape(1, 1));
+}
+
+/// [px] the extent along `u` of the streak that blob `k` (of length `length`) belongs to: a
+/// faint or shallow streak breaks where the noise dips below the threshold, and its pieces are
+/// blobs on one line, each shorter than the streak. Pieces within `across_px` of the line and
+/// `gap_px` of the growing segment's ends join it. Never shorter than `length`.
+double chainedLength(const std::vector<Centroid>& stars, std::size_t k, double length,
+                     const Vec2& u, double across_px, double gap_px) {
+  double lo = -0.5 * length, hi = 0.5 * length;
   std::vector<bool> joined(stars.size(), false);
   joined[k] = true;
   for (bool grew = true; grew;) {
@@ -93,9 +89,8 @@ double chainedLength(const std::vector<Centroid>& stars, std::size_t k, const Ve
       if (joined[j]) continue;
       const Vec2 d = stars[j].px - stars[k].px;
       if (std::abs(u.x() * d.y() - u.y() * d.x()) > across_px) continue;
-      double len = 0, twice = 0;
-      streakShape(stars[j], len, twice);
-      const double a = d.dot(u) - 0.5 * len, b = d.dot(u) + 0.5 * len;
+      const double half = 0.5 * streakLength(stars[j]);
+      const double a = d.dot(u) - half, b = d.dot(u) + half;
       if (a > hi + gap_px || b < lo - gap_px) continue;
       lo = std::min(lo, a);
       hi = std::max(hi, b);
@@ -130,12 +125,10 @@ std::optional<Vec2> streakFromShapes(const std::vector<Centroid>& stars,
     const Centroid& c = stars[k];
     if (static_cast<int>(shapes.size()) >= kUse) break;
     if (!(c.flags & kElongated) || (c.flags & (kSaturated | kTouchesEdge))) continue;
-    Shape s{};
-    streakShape(c, s.length, s.twice_angle);
-    const Vec2 u(std::cos(0.5 * s.twice_angle), std::sin(0.5 * s.twice_angle));
+    const double twice = twiceAxisAngle(c);
+    const Vec2 u(std::cos(0.5 * twice), std::sin(0.5 * twice));
     // Pieces: on the line within a PSF's reach, gaps of up to a few PSF widths.
-    s.length = std::max(s.length, chainedLength(stars, k, u, 1.5 * psf, 3.0 * psf));
-    shapes.push_back(s);
+    shapes.push_back({chainedLength(stars, k, streakLength(c), u, 1.5 * psf, 3.0 * psf), twice});
   }
   // Two whole streaks' moment lengths differ by their noise: ~1 px or a tenth of the length.
   auto agree = [](double l1, double l2) {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/attitude.hpp"
 #include "sensors/identify/algorithms.hpp"
 #include "sensors/identify/search_context.hpp"
 
@@ -25,9 +26,8 @@ struct Feature {
 // Angle at s between the great circles towards p and q.
 double vertexAngle(const Vec3& s, const Vec3& p, const Vec3& q) {
   const Vec3 tp = p - s.dot(p) * s, tq = q - s.dot(q) * s;
-  return std::atan2(tp.cross(tq).norm(), tp.dot(tq));
+  return angleBetween(tp, tq);
 }
-double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 constexpr int kCatalogNeighbours = 4;
 constexpr int kObservedNeighbours = 3;

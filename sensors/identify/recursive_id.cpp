@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/conventions.hpp"
+
 namespace st {
 
 namespace {
@@ -46,6 +48,15 @@ void RecursiveIdentifier::predictCandidates(const CameraPrediction& pred) {
     c.px = *px;
     candidates_.push_back(c);
   }
+  // The blend screen: stars too faint for the database still put light into its windows.
+  db_.screenConeQuery(R_ic.col(2), half_diagonal_fov_ + 3.0 * att_sigma, cone_);
+  screen_.clear();
+  for (uint32_t i : cone_) {
+    const ScreenStar& s = db_.screenStars()[i];
+    const Vec3 v = R_ic.transpose() * s.u_i;
+    if (v.z() <= 0) continue;
+    if (const auto px = camera_.vectorToPixel(v)) screen_.push_back({*px, relativeFlux(s.mag)});
+  }
 }
 
 bool RecursiveIdentifier::blended(const Candidate& c, const Vec2& blur) const {
@@ -65,6 +76,23 @@ bool RecursiveIdentifier::blended(const Candidate& c, const Vec2& blur) const {
     const Vec2 d = o.px - c.px;
     if (d.squaredNorm() < blend2 || (std::abs(d.x()) < reach_x && std::abs(d.y()) < reach_y))
       return true;
+  }
+  return screenedOut(c, reach_x, reach_y);
+}
+
+bool RecursiveIdentifier::screenedOut(const Candidate& c, double reach_x, double reach_y) const {
+  // A neighbour of relative flux f whose light falls into the window moves the centre of
+  // gravity by f / (1 + f) of their separation; a catalog star's neighbour excludes it
+  // outright (above), a fainter one only when that pull matters against the centroid noise.
+  const double flux_c = relativeFlux(db_.stars()[c.star_index].mag);
+  const double max_pull = opts_.screen_pull_sigma * sigma_c_px_;
+  const double blend2 = opts_.blend_separation_px * opts_.blend_separation_px;
+  for (const ScreenImage& o : screen_) {
+    const Vec2 d = o.px - c.px;
+    if (d.squaredNorm() >= blend2 && (std::abs(d.x()) >= reach_x || std::abs(d.y()) >= reach_y))
+      continue;
+    const double f = o.flux / flux_c;
+    if (f / (1 + f) * d.norm() > max_pull) return true;
   }
   return false;
 }

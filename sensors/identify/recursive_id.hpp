@@ -38,6 +38,9 @@ struct RecursiveIdOptions {
   double gate_sigma = 3.0;         ///< Mahalanobis gate
   double edge_margin_px = 4.0;     ///< predicted stars closer to the border are not windowed
   double blend_separation_px = 5.0;///< nor those closer than this to another catalog star
+  /// nor those whose centroid a star of the database's blend screen (fainter than its limit,
+  /// StarDatabase::screenStars) would pull by more than this many centroid sigmas
+  double screen_pull_sigma = 1.0;
   double centroid_sigma_px = 0.1;  ///< [px] floor of a centroid's sigma in windows and gate
   double exposure_s = 0.1;         ///< [s] for the blur of predicted stars
   DetectorOptions detect;          ///< window centroiding
@@ -86,6 +89,7 @@ class RecursiveIdentifier {
   void placeWindows(const CameraPrediction& pred);
   void gate(RecursiveIdResult& out);
   bool blended(const Candidate& c, const Vec2& blur) const;
+  bool screenedOut(const Candidate& c, double reach_x, double reach_y) const;
 
   const StarDatabase& db_;
   const CameraModel& camera_;
@@ -95,6 +99,11 @@ class RecursiveIdentifier {
   double sigma_c_px_;  // centroid_sigma_px (+) the camera-model error term
   std::vector<uint32_t> cone_;
   std::vector<Candidate> candidates_;
+  struct ScreenImage {
+    Vec2 px;
+    double flux;  // relative, 10^(-0.4 V)
+  };
+  std::vector<ScreenImage> screen_;  // the blend-screen stars predicted in the image
   std::vector<PredictedStar> windows_;
   std::vector<const Candidate*> windowed_;
   std::vector<WindowResult> found_;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/attitude.hpp"
+
 namespace st {
 
 TriangleFeature planarTriangle(const Vec3& b1, const Vec3& b2, const Vec3& b3) {
@@ -15,11 +17,10 @@ TriangleFeature planarTriangle(const Vec3& b1, const Vec3& b2, const Vec3& b3) {
 }
 
 namespace {
-double arc(const Vec3& x, const Vec3& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); }
 
 // L'Huilier's theorem, seed 001 eq. 8 with the arcs of eq. 9-11.
 double sphericalArea(const Vec3& b1, const Vec3& b2, const Vec3& b3) {
-  const double a = arc(b1, b2), b = arc(b2, b3), c = arc(b3, b1);
+  const double a = angleBetween(b1, b2), b = angleBetween(b2, b3), c = angleBetween(b3, b1);
   const double s = 0.5 * (a + b + c);
   const double t = std::tan(s / 2) * std::tan((s - a) / 2) * std::tan((s - b) / 2) *
                    std::tan((s - c) / 2);
@@ -32,7 +33,7 @@ double polarMoment(const Vec3& b1, const Vec3& b2, const Vec3& b3, const Vec3& c
                    int depth) {
   if (depth == 0) {
     const Vec3 c = (b1 + b2 + b3).normalized();
-    const double th = arc(c, centre);
+    const double th = angleBetween(c, centre);
     return th * th * sphericalArea(b1, b2, b3);
   }
   const Vec3 m12 = (b1 + b2).normalized(), m23 = (b2 + b3).normalized(),

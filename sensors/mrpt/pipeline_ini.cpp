@@ -178,6 +178,8 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .add("track_blend_separation_px", &T::blend_separation_px,
                "[px] predicted stars this close to another not windowed")
           .renamed("blend_separation_px", "track_blend_separation_px")
+          .add("track_screen_pull_sigma", &T::screen_pull_sigma,
+               "predicted stars a fainter uncatalogued star pulls this many sigma not windowed")
           .add("track_loss_probability", &T::loss_probability, "false-alarm rate of the loss test")
           .renamed("loss_probability", "track_loss_probability")
           .add("track_consistency_probability", &T::consistency_probability,

@@ -5,18 +5,10 @@
 #include <map>
 
 namespace st::testbed {
-namespace {
-
-double angleBetween(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));  // seed 001 eq. 1, accurate at small angles
-}
-
-}  // namespace
-
 AngleDatabase::AngleDatabase(std::vector<Vec3> stars) : stars_(std::move(stars)) {
   for (int i = 0; i < static_cast<int>(stars_.size()); ++i)
     for (int j = i + 1; j < static_cast<int>(stars_.size()); ++j)
-      pairs_.push_back({angleBetween(stars_[i], stars_[j]), i, j});
+      pairs_.push_back({angleBetween(stars_[i], stars_[j]), i, j});  // seed 001 eq. 1
   std::sort(pairs_.begin(), pairs_.end(),
             [](const Pair& a, const Pair& b) { return a.angle < b.angle; });
 }

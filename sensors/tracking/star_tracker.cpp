@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/attitude.hpp"
 #include "common/conventions.hpp"
 #include "sensors/attitude/drop_worst.hpp"
 #include "sensors/camera/jacobians.hpp"
@@ -28,10 +29,6 @@ double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-double angleBetween(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
 const TrackerOptions& validated(const TrackerOptions& o) {
   o.validate();
   return o;
@@ -45,6 +42,7 @@ RecursiveIdOptions recursiveIdOptions(const TrackerOptions& o) {
   r.gate_sigma = o.gate_sigma;
   r.edge_margin_px = o.edge_margin_px;
   r.blend_separation_px = o.blend_separation_px;
+  r.screen_pull_sigma = o.screen_pull_sigma;
   r.centroid_sigma_px = std::max(o.min_sigma_px, 0.1);
   r.exposure_s = o.exposure_s;
   r.detect = o.detect;

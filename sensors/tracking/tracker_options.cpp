@@ -27,6 +27,8 @@ const char* badNumber(const TrackerOptions& o, const char** why) {
       {o.max_tracked_stars >= 3, "max_tracked_stars", "must be >= 3"},
       {o.min_tracked_stars >= 3, "min_tracked_stars", "must be >= 3 (a check needs > 2 stars)"},
       {o.gate_sigma > 0, "gate_sigma", "must be > 0"},
+      {o.blend_separation_px >= 0, "blend_separation_px", "must be >= 0"},
+      {o.screen_pull_sigma >= 0, "screen_pull_sigma", "must be >= 0"},
       {o.loss_probability > 0 && o.loss_probability < 0.5, "loss_probability", "in (0, 0.5)"},
       {o.consistency_probability > 0 && o.consistency_probability < 0.5,
        "consistency_probability", "in (0, 0.5)"},

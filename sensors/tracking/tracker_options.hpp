@@ -51,6 +51,9 @@ struct TrackerOptions {
   /// Predicted stars closer than this to another catalog star are not windowed: their
   /// images blend and the centroid would be biased or taken by the wrong star.
   double blend_separation_px = 5.0;
+  /// Nor those whose centroid a star fainter than the database (its blend screen) would pull
+  /// by more than this many centroid sigmas: f / (1 + f) x separation, f the flux ratio.
+  double screen_pull_sigma = 1.0;
   double loss_probability = 1e-3;     ///< false-alarm rate of the chi-square loss test
   double consistency_probability = 1e-3;  ///< of the prediction-consistency test
   int max_failed_frames = 3;      ///< consecutive failed tracking frames -> lost-in-space

@@ -70,6 +70,15 @@ TEST(StarDatabaseFile, RoundTripIsExact) {
   db.coneQuery(db.stars()[5].u_i, 0.1, a);
   back.coneQuery(db.stars()[5].u_i, 0.1, b);
   EXPECT_EQ(a, b);
+  ASSERT_GT(db.screenStars().size(), 0u);
+  ASSERT_EQ(back.screenStars().size(), db.screenStars().size());
+  for (std::size_t i = 0; i < db.screenStars().size(); ++i) {
+    ASSERT_EQ(back.screenStars()[i].u_i, db.screenStars()[i].u_i);
+    ASSERT_EQ(back.screenStars()[i].mag, db.screenStars()[i].mag);
+  }
+  db.screenConeQuery(db.stars()[5].u_i, 0.1, a);
+  back.screenConeQuery(db.stars()[5].u_i, 0.1, b);
+  EXPECT_EQ(a, b);
 }
 
 TEST(StarDatabaseFile, RefusesCorruptOtherVersionAndForeignFiles) {
@@ -89,18 +98,42 @@ TEST(StarDatabaseFile, RefusesCorruptOtherVersionAndForeignFiles) {
 
   // A newer format version, with a checksum that is right for the changed bytes.
   std::string v3 = bytes.substr(0, bytes.size() - 4);
-  const uint32_t version = 3;
+  const uint32_t version = 4;
   std::memcpy(&v3[8], &version, 4);
   const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v3.data()), uInt(v3.size())));
   v3.append(reinterpret_cast<const char*>(&crc), 4);
-  writeBytes(dir + "/v3.stdb", v3);
-  const std::string msg = loadError(dir + "/v3.stdb");
-  EXPECT_NE(msg.find("version 3"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("v3.stdb"), std::string::npos) << msg;
+  writeBytes(dir + "/v4.stdb", v3);
+  const std::string msg = loadError(dir + "/v4.stdb");
+  EXPECT_NE(msg.find("version 4"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("v4.stdb"), std::string::npos) << msg;
 
   writeBytes(dir + "/foreign.stdb", "hello, not a database at all........");
   EXPECT_NE(loadError(dir + "/foreign.stdb").find("bad magic"), std::string::npos);
   EXPECT_NE(loadError(dir + "/missing.stdb").find("cannot open"), std::string::npos);
+}
+
+// A file of format 2 (before the blend-screen stars) still loads, with an empty screen: a
+// format-3 file with its screen section (count + 28 bytes per star, before the checksum) cut
+// off and the version set to 2.
+TEST(StarDatabaseFile, ReadsFormat2FilesWithoutAScreen) {
+  const std::string dir = test::makeTempDir("catalog");
+  const StarDatabase& db = test::hipDatabase15();
+  ASSERT_GT(db.screenStars().size(), 0u);
+  db.save(dir + "/v3.stdb");
+  const std::string bytes = readBytes(dir + "/v3.stdb");
+  std::string v2 = bytes.substr(0, bytes.size() - 4 - 4 - 28 * db.screenStars().size());
+  const uint32_t version = 2;
+  std::memcpy(&v2[8], &version, 4);
+  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v2.data()), uInt(v2.size())));
+  v2.append(reinterpret_cast<const char*>(&crc), 4);
+  writeBytes(dir + "/v2.stdb", v2);
+  const StarDatabase back = StarDatabase::load(dir + "/v2.stdb");
+  EXPECT_EQ(back.stars().size(), db.stars().size());
+  EXPECT_EQ(back.pairs().size(), db.pairs().size());
+  EXPECT_TRUE(back.screenStars().empty());
+  std::vector<uint32_t> near;
+  back.screenConeQuery(db.stars()[0].u_i, 0.5, near);
+  EXPECT_TRUE(near.empty());
 }
 
 // A file of format 1 (before the catalog's depth was recorded), built by the program of

@@ -55,6 +55,22 @@ TEST(StarDatabaseBuild, ReportCountsAndInvariants) {
   EXPECT_EQ(r.catalog_entries, test::hipSubset().entries.size());
   EXPECT_LE(r.after_mag_limit, r.merge_candidates - r.stars_merged_away);
   EXPECT_EQ(r.after_density, db.stars().size());
+  // Every merged candidate the database does not keep is a blend-screen star, no brighter than
+  // the faintest kept one unless the density reduction dropped it, no fainter than the margin.
+  EXPECT_EQ(r.screen_stars, db.screenStars().size());
+  EXPECT_EQ(r.screen_stars + db.stars().size(), r.merge_candidates - r.stars_merged_away);
+  for (const ScreenStar& s : db.screenStars()) EXPECT_LE(s.mag, db.params().mag_limit + 2.5);
+  if (db.params().max_stars_per_region == 0) {
+    for (const ScreenStar& s : db.screenStars()) EXPECT_GT(s.mag, db.params().mag_limit);
+  }
+  std::vector<uint32_t> got;
+  const Vec3 axis = db.stars()[7].u_i;
+  db.screenConeQuery(axis, deg2rad(3), got);
+  std::vector<uint32_t> want;
+  for (uint32_t i = 0; i < db.screenStars().size(); ++i)
+    if (db.screenStars()[i].u_i.dot(axis) >= std::cos(deg2rad(3))) want.push_back(i);
+  EXPECT_EQ(got, want);
+  EXPECT_GT(got.size(), 0u);
   EXPECT_EQ(r.pairs, db.pairs().size());
   EXPECT_EQ(r.kvector_size, db.pairKVector().size());
   for (std::size_t i = 0; i < db.stars().size(); ++i) {
