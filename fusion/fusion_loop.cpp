@@ -464,6 +464,7 @@ FrameInputs FusionLoop::frameInputs(double t) const {
     a.q_ib = p.q_ib;
     a.cov_body = p.attitudeCov();
     a.rate_body = gyroless() ? p.rate : Vec3(meanRate(t, ahead) - p.bias);
+    if (gyroless()) a.cov_rate_body = p.P.bottomRightCorner<3, 3>();
     in.prediction = a;
     return in;
   }

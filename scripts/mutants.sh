@@ -119,6 +119,10 @@ mutant streaked-lis-remeasure sensors/tracking/star_tracker.cpp \
   's/^constexpr double kStreakedPx = 2.0;/constexpr double kStreakedPx = 2.0e9;/' \
   $TR 'LostInSpaceCovariance.*' \
   "streaked lost-in-space fixes re-measured by tracking (their covariance: 1.4x optimistic)"
+mutant wide-prediction-lis sensors/tracking/star_tracker.cpp \
+  's/    if \(half <= opts_.detect.max_window_half_px\) \{/    if (half <= opts_.detect.max_window_half_px + 1e9) {/' \
+  "startracker st_test_app" 'ReplayGyroless.AcquiresAtFour*' \
+  "a prediction wider than the largest window: lost-in-space (gyroless acquisition from two frames)"
 FU=st_test_fusion
 mutant heads-disagreement fusion/fusion_loop.cpp \
   's/const bool agree = j.ok \&\& j.dof <= head_threshold_.maxDof\(\) \&\& j.chi2 <= head_threshold_\(j.dof\);/const bool agree = j.ok;/' \

@@ -23,6 +23,9 @@ struct AttitudePrediction {
   Quat q_ib = Quat::Identity();
   Mat3 cov_body = Mat3::Identity();  ///< [rad^2]
   Vec3 rate_body = Vec3::Zero();     ///< [rad/s] body rate at the frame (blur, acceleration)
+  /// [rad^2/s^2] covariance of rate_body: the gyroless filter's rate state; zero for a rate a
+  /// gyro measured
+  Mat3 cov_rate_body = Mat3::Zero();
 };
 
 /// Everything one frame takes from outside the tracker. All optional: with nothing, the

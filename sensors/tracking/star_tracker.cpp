@@ -1,6 +1,7 @@
 #include "sensors/tracking/star_tracker.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -145,10 +146,24 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
   std::optional<CameraPrediction> external;
   if (in.prediction) {
     // Body -> camera: q_ic = q_ib (x) q_bc, dtheta_cam = R_cb dtheta_body.
-    external = CameraPrediction{canonical(in.prediction->q_ib * Quat(R_bc_)),
-                                R_cb * in.prediction->cov_body * R_cb.transpose(),
-                                R_cb * in.prediction->rate_body};
-    rate_cam = external->rate_cam;
+    const CameraPrediction p{canonical(in.prediction->q_ib * Quat(R_bc_)),
+                             R_cb * in.prediction->cov_body * R_cb.transpose(),
+                             R_cb * in.prediction->rate_body};
+    // A prediction whose windows would have to be wider than the largest one cannot place
+    // them (the gyroless filter before its second fix, a long coast): the frame is solved
+    // lost-in-space instead, with the predicted rate only if it is known to a PSF over the
+    // exposure, else from the streaks' shapes.
+    const double psf = opts_.detect.psfSigmaGuess();
+    const double half = opts_.detect.window_sigmas * sigmaAtCentrePx(p.cov_cam) + 3.0 * psf;
+    const Mat3 cov_rate_cam = R_cb * in.prediction->cov_rate_body * R_cb.transpose();
+    if (half <= opts_.detect.max_window_half_px) {
+      external = p;
+      rate_cam = p.rate_cam;
+    } else if (sigmaAtCentrePx(cov_rate_cam) * opts_.exposure_s <= psf) {
+      rate_cam = p.rate_cam;
+    } else {
+      rate_cam.reset();
+    }
   }
   PredictionSource source = PredictionSource::kNone;
   std::optional<CameraPrediction> pred;
@@ -226,6 +241,12 @@ std::optional<Vec3> StarTracker::measureStreaksOf(const cv::Mat& image,
   // streak's sign is unknown, and a streak's centroid does not depend on it).
   const Mat23 J = attitudeJacobian(camera_, camera_.pixelToVector(imageCentre()));
   return Vec3(J.transpose() * (J * J.transpose()).ldlt().solve(*blur) / opts_.exposure_s);
+}
+
+double StarTracker::sigmaAtCentrePx(const Mat3& cov_cam) const {
+  const Mat23 J = attitudeJacobian(camera_, camera_.pixelToVector(imageCentre()));
+  const Mat2 C = J * cov_cam * J.transpose();
+  return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat2>(C).eigenvalues().maxCoeff()));
 }
 
 Vec2 StarTracker::imageCentre() const {

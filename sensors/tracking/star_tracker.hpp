@@ -112,6 +112,9 @@ class StarTracker {
   std::optional<Vec3> measureStreaksOf(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
                                        std::vector<Centroid>& stars);
   Vec2 imageCentre() const;
+  /// [px] 1-sigma at the image centre, along its worst direction, of a camera-frame
+  /// covariance (of an attitude [rad^2], or of a rate times the exposure).
+  double sigmaAtCentrePx(const Mat3& cov_cam) const;
   /// [px] the streak length at the image centre for a camera-frame rate.
   double streakPx(const Vec3& rate_cam) const;
   /// A streaked lost-in-space fix measured again as tracking measures a frame, predicted by
