@@ -123,6 +123,10 @@ mutant wide-prediction-lis sensors/tracking/star_tracker.cpp \
   's/    if \(half <= opts_.detect.max_window_half_px\) \{/    if (half <= opts_.detect.max_window_half_px + 1e9) {/' \
   "startracker st_test_app" 'ReplayGyroless.AcquiresAtFour*' \
   "a prediction wider than the largest window: lost-in-space (gyroless acquisition from two frames)"
+mutant mrpt-allocation-throws sensors/mrpt/mrpt_allocation.cpp \
+  's/^void\* aligned_malloc\(std::size_t size, std::size_t alignment\) \{/void* aligned_malloc_off(std::size_t size, std::size_t alignment) {/' \
+  "startracker st_test_fuzz" 'FuzzRegressions.Matrix*' \
+  "fuzz finding: an MRPT matrix of declared gigabytes is damage, not SIGSEGV (aligned_alloc's NULL)"
 FU=st_test_fusion
 mutant heads-disagreement fusion/fusion_loop.cpp \
   's/const bool agree = j.ok \&\& j.dof <= head_threshold_.maxDof\(\) \&\& j.chi2 <= head_threshold_\(j.dof\);/const bool agree = j.ok;/' \

@@ -15,6 +15,7 @@
 
 #include "common/errors.hpp"
 #include "sensors/mrpt/jpeg_errors.hpp"
+#include "sensors/mrpt/mrpt_allocation.hpp"
 #include "sensors/mrpt/observation_star_tracker.hpp"
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 
@@ -104,6 +105,7 @@ void RawlogWriter::close() {
 RawlogReader::RawlogReader(const std::string& path) : path_(path) {
   registerStarTrackerClasses();
   jpegErrorsThrow();  // a damaged inline JPEG is damage, not exit() (jpeg_errors.hpp)
+  mrptAllocationsThrow();  // a matrix of declared gigabytes is damage, not SIGSEGV
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {
     throw InputError("rawlog '" + path + "': no such file");

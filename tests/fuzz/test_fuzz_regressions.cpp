@@ -168,5 +168,18 @@ TEST(FuzzRegressions, DamagedInlineJpegIsReportedAsDamageNotExit) {
   EXPECT_NE(r.err.find("truncated or not a rawlog"), std::string::npos) << r.err;
 }
 
+// A rawlog object that is an MRPT matrix declaring gigabytes of elements: MRPT's aligned
+// allocator did not check aligned_alloc's NULL and std::vector zero-filled through it (SIGSEGV,
+// exit 139); now the allocation throws (sensors/mrpt/mrpt_allocation.hpp) and replay reports
+// damage at object 0 with exit 2.
+TEST(FuzzRegressions, MatrixOfDeclaredGigabytesIsReportedAsDamageNotSegfault) {
+  const std::string path = writeFile(
+      "matrix.rawlog", readBytes(reproducer("rawlog", "cmatrixd_declared_size_segv")));
+  const test::CliRun r = test::runCli("replay '" + path + "'");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("rawlog '" + path + "', object 0"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad_alloc"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace st
