@@ -17,6 +17,9 @@ PKGS=(
   pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev
   xvfb xauth
   clang libfuzzer-14-dev   # scripts/fuzz.sh (libFuzzer, ASan+UBSan)
+  # The outside oracle for plate solving (scripts/compare_astrometry.py, ctest
+  # astrometry_net_agreement): solve-field, its Tycho-2 index (scales 10-19) and astropy.
+  astrometry.net astrometry-data-tycho2-10-19 python3-astropy
 )
 missing=()
 for p in "${PKGS[@]}"; do
