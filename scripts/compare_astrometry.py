@@ -30,6 +30,8 @@ import sys
 import time
 import warnings
 
+from machine_info import cpu_model
+
 try:
     import numpy as np
     from astropy.io import fits
@@ -114,17 +116,6 @@ def rms_on_matches(wcs, corr):
 def package_version(pkg):
     r = subprocess.run(["dpkg-query", "-W", "-f=${Version}", pkg], capture_output=True, text=True)
     return r.stdout.strip() or "?"
-
-
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "?"
 
 
 def main():

@@ -158,6 +158,14 @@ mutant streak-pieces sensors/detect/streaks.cpp \
   's/chainedLength\(stars, k, streakLength\(c\), u, 1.5 \* psf, 3.0 \* psf\)/chainedLength(stars, k, streakLength(c), u, -1.0, 3.0 * psf)/' \
   $DT 'StreakShapes.*' \
   "blind streak length: pieces of a broken streak joined (their own lengths set 5 px for 13 px)"
+mutant diffuse-ranking sensors/detect/detect_frame.cpp \
+  's/const uint32_t demoted = kDiffuse \| /const uint32_t demoted = 0u | /' \
+  st_test_app 'SolveClutter.Sim*:SolveClutter.Real*' \
+  "issue 15: lamps and a lit foreground's patches (flux over peak, wing and clipped pixels beyond a star's) rank after the stars"
+mutant pyramid-ranked sensors/identify/pyramid.cpp \
+  's/return confirmed\[a\].count > confirmed\[b\].count \|\|$/return a < b; return confirmed[a].count > confirmed[b].count ||/' \
+  st_test_app 'SolveClutter.Sim*' \
+  "issue 15: a triangle's catalog pyramids verified most confirmed first (by 4th stars), not in the order found"
 APP=startracker
 mutant mc-star-count-lt3 app/montecarlo/exp_star_count.cpp \
   's/return x < 3; \}/return x <= 3; }/' \

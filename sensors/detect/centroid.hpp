@@ -17,6 +17,10 @@ enum CentroidFlag : uint32_t {
   kElongated = 4,     ///< second moments far from round: streak, double star or artefact
   kHotPixel = 8,      ///< a single bright pixel, or a saturated cluster, with dark neighbours
   kExtended = 16,     ///< wider than any PSF across its narrow axis: foreground, glow, edge
+  /// Its light spread over more pixels than this frame's stars spread theirs (flux over peak
+  /// well above their median; full-frame detection): a lamp, a lit window, a mottled
+  /// foreground's bright patch. Kept, but ranked after the point-like stars.
+  kDiffuse = 32,
 };
 
 struct Centroid {

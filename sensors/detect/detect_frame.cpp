@@ -79,7 +79,8 @@ double ringMean(const cv::Mat& grey, const cv::Rect& box, double b) {
 template <typename T>
 uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, double b,
                    double sb, double sat, double top, const DetectorOptions& opts,
-                   double psf_lim, Moments& mom, double& psf, bool& flat_top) {
+                   double psf_lim, Moments& mom, double& psf, bool& flat_top,
+                   int& wing_px, int& clipped_px) {
   const cv::Rect frame(0, 0, grey.cols, grey.rows);
   const cv::Rect box = c.box();
   uint32_t flags = 0;
@@ -99,6 +100,8 @@ uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, 
   // top, also where the clip level is not known (12-bit data in a 16-bit word without a
   // shift clip at 4095). Ties at lower values (a lit foreground's mottling) say nothing.
   flat_top = n_top >= 2 && c.peak_raw >= top && c.peak_raw - b > kFlatTopSigma * sb;
+  wing_px = n_low;
+  clipped_px = std::max(n_sat, n_top);
   double elong = 1;
   psf = 0;
   mom.shape(elong, psf);
@@ -187,17 +190,63 @@ double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, do
   return std::min(opts.max_psf_sigma_px, 2 * *mid + 0.5);
 }
 
-// Brightest first, ties in candidate order; when most stars are round, the elongated ones
-// after all round ones (a trail, a branch's lit edge, a glow's rim: their flux says little
-// about a star's magnitude, and the brightest few form the patterns of lost-in-space). In a
-// slew most are streaks and the order is by flux alone. An insertion sort: stable without
-// std::stable_sort's temporary buffer (an allocation per frame).
+// What a star of this frame looks like, from the median m of flux over peak pixel of its
+// well-measured unclipped stars (m = 2 pi s^2 for a Gaussian PSF of sigma s):
+//  - flux over peak: an undersampled PSF (the tetra3 frames: s ~ 0.7 px) puts from 1/4 to
+//    all of its central light in one pixel; those frames' bright stars reach 2.6 m. A flat
+//    6x4 px lamp against s = 1 px: 24 / 6.3 = 3.8 m.
+//  - wing pixels, between the threshold T and half the peak P: m ln(P / 2T) for a Gaussian,
+//    whatever the true peak of a clipped one (then P is the clip). A real PSF's halo puts
+//    more there: the tetra3 frames' saturated stars up to 4.4x; a lamp in a lit foreground's
+//    light 5-10x.
+//  - core pixels, at or above half the peak, of an unclipped one: m ln 2 for a Gaussian; a
+//    plateau (a lamp just below the clip, a lit window) has its whole area there.
+//  - clipped pixels: m ln(P / C) for a star of true peak P above the clip C.
+constexpr double kDiffuseMinPeakSigma = 10;  // [noise sigmas] a peak that sets m
+constexpr double kRatioClearly = 3.0;        // [m] flux over peak of no star
+constexpr double kRatioWide = 1.6;           // [m] ... of a wide one, if its wings say so too
+constexpr double kWingsWide = 3.0;           // [x Gaussian] wings of an unclipped wide one
+constexpr double kWingsClipped = 6.0;        // [x Gaussian] wings of no clipped star
+constexpr double kCoreFactor = 4.0;          // [x Gaussian] core of no unclipped star
+constexpr double kMaxClipLog = 10;  // ln P/C of the brightest star: 22,000x, 11 mag over the clip
+constexpr double kMarginPx = 10;    // [px] a small disc's pixel sampling
+
+// kDiffuse on the stars that do not look like this frame's stars (above); none when fewer
+// than 5 set m.
+void flagDiffuse(std::vector<Centroid>& stars, const std::vector<PeakShape>& shape) {
+  thread_local std::vector<double> ratio;
+  ratio.clear();
+  for (std::size_t i = 0; i < stars.size(); ++i)
+    if (shape[i].sets_median) ratio.push_back(stars[i].flux / stars[i].peak);
+  if (ratio.size() < 5) return;
+  const auto mid = ratio.begin() + static_cast<std::ptrdiff_t>(ratio.size() / 2);
+  std::nth_element(ratio.begin(), mid, ratio.end());
+  const double m = *mid;
+  for (std::size_t i = 0; i < stars.size(); ++i) {
+    const PeakShape& p = shape[i];
+    const double gaussian_wings = m * p.wing_log;
+    const double r = stars[i].flux / stars[i].peak;
+    const bool diffuse =
+        p.unclipped ? r > kRatioClearly * m ||
+                          (r > kRatioWide * m && p.wing_px > kWingsWide * gaussian_wings + kMarginPx) ||
+                          stars[i].area - p.wing_px > kCoreFactor * m * std::log(2.0) + kMarginPx
+                    : p.wing_px > kWingsClipped * gaussian_wings + kMarginPx ||
+                          p.clipped_px > kMaxClipLog * m + kMarginPx;
+    if (diffuse) stars[i].flags |= kDiffuse;
+  }
+}
+
+// Brightest first, ties in candidate order; the diffuse ones, and when most stars are round
+// the elongated ones, after the others (a lamp, a trail, a branch's lit edge, a glow's rim:
+// their flux says little about a star's magnitude, and the brightest few form the patterns of
+// lost-in-space). In a slew most are streaks and their order is by flux alone. An insertion
+// sort: stable without std::stable_sort's temporary buffer (an allocation per frame).
 void sortBrightestFirst(std::vector<Centroid>& stars) {
   std::size_t elongated = 0;
   for (const Centroid& c : stars) elongated += (c.flags & kElongated) != 0;
-  const bool demote = 2 * elongated < stars.size();
-  const auto before = [demote](const Centroid& a, const Centroid& b) {
-    const bool ea = demote && (a.flags & kElongated), eb = demote && (b.flags & kElongated);
+  const uint32_t demoted = kDiffuse | (2 * elongated < stars.size() ? kElongated : 0u);
+  const auto before = [demoted](const Centroid& a, const Centroid& b) {
+    const bool ea = (a.flags & demoted) != 0, eb = (b.flags & demoted) != 0;
     return ea != eb ? eb : a.flux > b.flux;
   };
   for (std::size_t i = 1; i < stars.size(); ++i)
@@ -219,6 +268,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
   for (const Blob& c : blobs) top = std::max(top, c.peak_raw);
   top = std::min(top, sat);
   const double min_sep2 = opts.min_separation_px * opts.min_separation_px;
+  s.peak_shapes.clear();
   res.stars.reserve(static_cast<std::size_t>(std::min<std::size_t>(
       static_cast<std::size_t>(opts.max_stars), cands.size())));
   for (const Candidate& cand : cands) {
@@ -241,8 +291,9 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
     Moments mom;
     double psf = 0;
     bool flat_top = false;
-    uint32_t flags =
-        blobFlags<T>(grey, c, lab, b, sb, sat, top, opts, psf_lim, mom, psf, flat_top);
+    int wing_px = 0, clipped_px = 0;
+    uint32_t flags = blobFlags<T>(grey, c, lab, b, sb, sat, top, opts, psf_lim, mom, psf,
+                                  flat_top, wing_px, clipped_px);
     Centroid star;
     if ((flags & opts.reject_flags) ||
         !centroidBlob<T>(grey, c, mom, b, sb, sat, psf, opts, main, cog, s, star)) {
@@ -271,7 +322,13 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
       continue;
     }
     res.stars.push_back(star);
+    const bool unclipped = !(flags & kSaturated) && !flat_top && star.peak > 0;
+    const double wing_log =
+        std::log(std::max((c.peak_raw - b) / (2 * opts.threshold_sigma * sb), 2.0));
+    s.peak_shapes.push_back({unclipped, unclipped && star.peak > kDiffuseMinPeakSigma * sb,
+                             wing_px, clipped_px, wing_log});
   }
+  flagDiffuse(res.stars, s.peak_shapes);
   sortBrightestFirst(res.stars);
   if (res.stars.empty()) res.reason = "no blob passed the filters";
 }

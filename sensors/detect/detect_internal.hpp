@@ -24,6 +24,15 @@ struct Candidate {
   double sum;  ///< the ranking measure (larger first)
 };
 
+/// Per kept star of a full frame: whether its top is unclipped (its flux over peak is a
+/// shape) and whether its peak is high enough for that ratio to set the frame's median; for a
+/// clipped one, its pixels below half the clip, its clipped pixels and ln(clip / 2 threshold).
+struct PeakShape {
+  bool unclipped = false, sets_median = false;
+  int wing_px = 0, clipped_px = 0;
+  double wing_log = 0;
+};
+
 /// A detector's buffers, reused frame after frame: no allocation once they have grown to the
 /// largest frame and window.
 struct Scratch {
@@ -31,6 +40,7 @@ struct Scratch {
   BackgroundModel background;
   std::vector<double> thresholds;  ///< per tile
   std::vector<Candidate> candidates;
+  std::vector<PeakShape> peak_shapes;  ///< per kept star (detect_frame.cpp's flagDiffuse)
   std::vector<float> patch;  ///< values of the current centroid window
   std::vector<float> ring;   ///< border ring of the current search window
   cv::Mat converted;        ///< grey conversion of a colour input (never the caller's pixels)
