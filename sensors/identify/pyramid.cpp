@@ -66,10 +66,15 @@ class PyramidIdentifier final : public StarIdentifier {
       confirmed.assign(tris.size(), Confirmed{});
       int tried = 0;
       // Confirm with a 4th star r: a catalog star d at the right angles from a, b and c.
+      // Only the triangles' first stars are looked up: their partners alone are listed.
+      StarCounter& firsts = ctx.counter(0);
+      firsts.clear();
+      for (const auto& t : tris) firsts.add(t[0]);
+      const auto isFirst = [&](uint32_t a) { return firsts.get(a) > 0; };
       PartnerLists& lir = ctx.lists(1);
       for (int r = 0; r < ctx.n; ++r) {
         if (r == i || r == j || r == k) continue;
-        lir.build(ctx.slice(i, r));
+        lir.build(ctx.slice(i, r), isFirst);
         for (std::size_t ti = 0; ti < tris.size(); ++ti) {
           const auto& t = tris[ti];
           bool stop = false, seen = false;

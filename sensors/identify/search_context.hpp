@@ -19,6 +19,18 @@ class PartnerLists {
   static constexpr uint32_t kNone = 0xffffffffu;
   void reset(std::size_t n_stars);
   void build(const PairSlice& s);
+  /// The partners of the stars `keep(a)` accepts only: a search that looks up few stars
+  /// then pays a read per pair instead of a list entry (the entries are the cost).
+  template <class Keep>
+  void build(const PairSlice& s, Keep&& keep) {
+    ++epoch_;
+    partner_.clear();
+    next_.clear();
+    for (const StarPair* p = s.begin; p != s.end; ++p) {
+      if (keep(p->a)) push(p->a, p->b);
+      if (keep(p->b)) push(p->b, p->a);
+    }
+  }
   bool has(uint32_t a) const { return stamp_[a] == epoch_; }
   template <class F>
   void forEach(uint32_t a, F&& f) const {
