@@ -62,7 +62,8 @@ double diffSigma(const cv::Mat& roi, int n, std::vector<float>& buf) {
   robustLevelSigma(buf, level, sigma, &q);
   // A difference of two grouped values spreads over two rounding intervals: variance
   // 2 (s^2 + q^2/12) + q^2/12 in the grouped reading, for the s^2 + q^2/12 of one pixel.
-  return std::sqrt(std::max(sigma * sigma - q * q / 12.0, 0.0) / 2.0);
+  const double qd = q;  // a step can be tens of thousands of ADU: its square overflows an int
+  return std::sqrt(std::max(sigma * sigma - qd * qd / 12.0, 0.0) / 2.0);
 }
 
 double bilinear(const BackgroundModel& m, const std::vector<float>& t, double x, double y,
