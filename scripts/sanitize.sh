@@ -21,6 +21,8 @@ nice -n 10 cmake --build build-asan -j"$(nproc)"
 # try one; tests/fuzz/regressions/star_list/).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=1:strict_string_checks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# Leaks inside MRPT, libjpeg and cfitsio that are not ours to free (reasons in the file).
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan.supp:print_suppressions=0}
 args=(--test-dir build-asan --output-on-failure -j"$(nproc)")
 [ -z "$regex" ] || args+=(-R "$regex")
 start=$(date +%s)
