@@ -222,6 +222,7 @@ void flagDiffuse(std::vector<Centroid>& stars, const std::vector<PeakShape>& sha
   const auto mid = ratio.begin() + static_cast<std::ptrdiff_t>(ratio.size() / 2);
   std::nth_element(ratio.begin(), mid, ratio.end());
   const double m = *mid;
+  const double max_core_px = kCoreFactor * m * std::log(2.0) + kMarginPx;
   for (std::size_t i = 0; i < stars.size(); ++i) {
     const PeakShape& p = shape[i];
     const double gaussian_wings = m * p.wing_log;
@@ -229,7 +230,7 @@ void flagDiffuse(std::vector<Centroid>& stars, const std::vector<PeakShape>& sha
     const bool diffuse =
         p.unclipped ? r > kRatioClearly * m ||
                           (r > kRatioWide * m && p.wing_px > kWingsWide * gaussian_wings + kMarginPx) ||
-                          stars[i].area - p.wing_px > kCoreFactor * m * std::log(2.0) + kMarginPx
+                          stars[i].area - p.wing_px > max_core_px
                     : p.wing_px > kWingsClipped * gaussian_wings + kMarginPx ||
                           p.clipped_px > kMaxClipLog * m + kMarginPx;
     if (diffuse) stars[i].flags |= kDiffuse;

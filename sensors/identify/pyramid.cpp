@@ -1,6 +1,7 @@
 // Mortari's Pyramid (seed 002 ref. [18], seed 004 sec. 5.5.4): a triangle of observed stars
 // is matched through three k-vector lookups, then confirmed by a fourth star whose three
-// angles to the triangle must match too; every confirmed pyramid is verified.
+// angles to the triangle must match too; confirmed pyramids are verified, those confirmed by
+// the most 4th stars first (below).
 #include <algorithm>
 #include <array>
 
