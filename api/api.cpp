@@ -1,8 +1,9 @@
 // The façade's small pieces: version, data folder, Database, the tracker and its JSON.
 #include <filesystem>
 
-#include "api/database_cache.hpp"
-#include "app/solve/solve_epoch.hpp"
+#include "api/shared_cache.hpp"
+#include "catalog/database_recipe.hpp"
+#include "solve/solve_epoch.hpp"
 #include "common/check.hpp"
 #include "include/startracker/startracker.hpp"
 
@@ -23,9 +24,25 @@ Database Database::load(const std::string& path) {
   return Database(std::make_shared<const StarDatabase>(StarDatabase::load(path)), path, true);
 }
 
+std::shared_ptr<solve::DatabaseCache> sharedDatabaseCache(bool no_cache) {
+  static const auto disk =
+      std::make_shared<solve::DatabaseCache>(StarDatabase::defaultCatalogPath(), true);
+  static const auto memory =
+      std::make_shared<solve::DatabaseCache>(StarDatabase::defaultCatalogPath(), false);
+  return no_cache ? memory : disk;
+}
+
 Database Database::forCamera(const CameraModel& camera, double mag_limit, double epoch_jyear) {
-  const double epoch = app::chooseEpoch(epoch_jyear, std::nullopt, "", nullptr).jyear;
-  return buildDatabase(2 * camera.halfDiagonalFov(), camera.pixelScale(), mag_limit, epoch);
+  const double epoch = solve::chooseEpoch(epoch_jyear, std::nullopt, "", nullptr).jyear;
+  // The recipe every command uses (catalog/database_recipe.hpp), in the apparent frame.
+  CameraDatabaseRecipe r;
+  r.diagonal_fov_rad = 2 * camera.halfDiagonalFov();
+  r.pixel_scale_rad = camera.pixelScale();
+  r.mag_limit = mag_limit;
+  r.epoch_jyear = epoch;
+  r.aberration = true;
+  solve::CachedDatabase c = sharedDatabaseCache()->get(databaseParams(r));
+  return Database(c.db, c.how + " from " + StarDatabase::defaultCatalogPath(), false);
 }
 
 nlohmann::ordered_json frameResultJson(const FrameResult& r) {

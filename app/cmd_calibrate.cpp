@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "app/camera_options.hpp"
+#include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
-#include "app/image_io.hpp"
-#include "app/output_file.hpp"
+#include "imageio/image_file.hpp"
+#include "common/output_file.hpp"
 #include "catalog/database_recipe.hpp"
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
@@ -29,7 +29,7 @@ namespace {
 struct CalibrateOptions {
   std::vector<std::string> inputs;
   std::string output;
-  CameraOptions camera;  ///< the start (optional: else a FOV search)
+  solve::CameraOptions camera;  ///< the start (optional: else a FOV search)
   std::vector<double> fov_range_deg = {5, 30};
   std::string database;
   double epoch = 0;
@@ -163,7 +163,7 @@ int runCalibrate(const CalibrateOptions& o) {
     throw InputError("--fov-range needs MIN MAX in degrees with 0 < MIN <= MAX");
   prepareOutputFile(o.output, "-o");
   const std::vector<std::string> files = imageFiles(o.inputs);
-  LoadedImage first = loadImage(files.front());
+  imageio::LoadedImage first = imageio::loadImage(files.front());
   const double epoch = o.epoch > 0 ? o.epoch : first.epoch_jyear.value_or(2025.0);
   if (o.epoch <= 0)
     log::info("epoch %.2f (%s)", epoch, first.epoch_jyear ? first.epoch_source.c_str() : "no date in the first frame: 2025.0; give --epoch");
@@ -173,7 +173,7 @@ int runCalibrate(const CalibrateOptions& o) {
   std::optional<CameraModel> known;
   ProgressBar bar("solving", files.size());
   for (const std::string& f : files) {
-    const LoadedImage img = f == files.front() ? first : loadImage(f);
+    const imageio::LoadedImage img = f == files.front() ? first : imageio::loadImage(f);
     if (img.image.cols != first.image.cols || img.image.rows != first.image.rows)
       throw InputError(f + ": " + std::to_string(img.image.cols) + "x" + std::to_string(img.image.rows) +
                        " px, but " + files.front() + " is " + std::to_string(first.image.cols) + "x" +
@@ -210,7 +210,7 @@ void addCalibrateCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("inputs", o->inputs, "Images or folders of images of one camera")->required();
   cmd->add_option("-o,--output", o->output, "Camera file to write (OpenCV YAML, --camera reads it)")
       ->required();
-  o->camera.addTo(*cmd);
+  addCameraFlags(*cmd, o->camera);
   cmd->add_option("--fov-range", o->fov_range_deg, "FOV search range without --camera/--fov-deg [deg]")
       ->expected(2)
       ->capture_default_str();

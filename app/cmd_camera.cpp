@@ -1,10 +1,10 @@
 // `startracker camera`: check a camera file and print its intrinsics and field of view.
 #include <cstdio>
 
-#include "app/camera_options.hpp"
+#include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
-#include "app/output_file.hpp"
+#include "common/output_file.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 
@@ -12,9 +12,9 @@ namespace st::app {
 
 void addCameraCommand(CLI::App& root, CommandRun& run) {
   auto* cmd = root.add_subcommand("camera", "Load a camera model and print it (checks the file)");
-  auto opts = std::make_shared<CameraOptions>();
+  auto opts = std::make_shared<solve::CameraOptions>();
   auto size = std::make_shared<std::vector<int>>();
-  opts->addTo(*cmd);
+  addCameraFlags(*cmd, *opts);
   cmd->add_option("--size", *size, "Image size W H (needed with --fov-deg)")
       ->check(cli::WholeNumber(1, 1'000'000))
       ->expected(2);

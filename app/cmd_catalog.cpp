@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "app/camera_options.hpp"
+#include "app/camera_flags.hpp"
 #include "app/command.hpp"
-#include "app/output_file.hpp"
+#include "common/output_file.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
@@ -31,7 +31,7 @@ namespace {
 struct CatalogBuildOptions {
   std::string catalog_path = StarDatabase::defaultCatalogPath();
   std::string catalog_format = "auto";
-  CameraOptions camera;             // --camera / --camera-section / --fov-deg (horizontal)
+  solve::CameraOptions camera;             // --camera / --camera-section / --fov-deg (horizontal)
   std::vector<int> size;            // --size W H with --fov-deg
   std::optional<double> diagonal_fov_deg;
   double margin_deg = 0.2;
@@ -234,7 +234,7 @@ void addCatalogCommand(CLI::App& root, CommandRun& run) {
                     "Format of --catalog (auto: from the file name, else its content)")
       ->check(CLI::IsMember(formats))
       ->capture_default_str();
-  o->camera.addTo(*build);
+  addCameraFlags(*build, o->camera);
   build->add_option("--size", o->size, "Image size W H [px] for --fov-deg (default: square)")
       ->expected(2);
   build->add_option("--diagonal-fov-deg", o->diagonal_fov_deg,

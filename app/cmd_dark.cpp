@@ -8,9 +8,9 @@
 
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
-#include "app/image_io.hpp"
-#include "app/output_file.hpp"
-#include "app/solve/input_list.hpp"
+#include "imageio/image_file.hpp"
+#include "common/output_file.hpp"
+#include "solve/input_list.hpp"
 #include "common/errors.hpp"
 #include "common/log.hpp"
 #include "sensors/detect/dark_frame.hpp"
@@ -36,21 +36,21 @@ std::string describeType(const cv::Mat& m) {
 
 int runDark(const DarkArgs& a) {
   prepareOutputFile(a.output, "-o/--output");
-  const std::vector<std::string> files = expandInputs(a.inputs);
+  const std::vector<std::string> files = solve::expandInputs(a.inputs);
   if (static_cast<int>(files.size()) < kMinDarkFrames)
     throw InputError("dark: " + std::to_string(files.size()) + " frame(s) given; the median needs at least " +
                      std::to_string(kMinDarkFrames));
   std::vector<cv::Mat> frames;
   frames.reserve(files.size());
   for (const auto& f : files) {
-    cv::Mat img = loadImage(f).image;
+    cv::Mat img = imageio::loadImage(f).image;
     if (!frames.empty() && (img.size() != frames[0].size() || img.type() != frames[0].type()))
       throw InputError(f + ": " + describeType(img) + " differs from the first dark frame " +
                        files[0] + " (" + describeType(frames[0]) + ")");
     frames.push_back(std::move(img));
   }
   const cv::Mat dark = medianDark(frames);
-  writeImage(a.output, dark);
+  imageio::writeImage(a.output, dark);
   const DarkStats s = darkStats(dark, a.hot_sigma);
   std::printf("dark: median of %zu frames (%s) -> %s\n", frames.size(),
               describeType(dark).c_str(), a.output.c_str());

@@ -63,7 +63,7 @@
 #include "app/live/live_recorder.hpp"
 #include "app/live/replay_config.hpp"
 #include "app/live/sensor_runner.hpp"
-#include "app/output_file.hpp"
+#include "common/output_file.hpp"
 #include "common/errors.hpp"
 #include "common/log.hpp"
 #include "config/ini_reader.hpp"

@@ -14,7 +14,7 @@
 #include "app/command.hpp"
 #include "app/live/step_report.hpp"
 #include "app/live/replay_config.hpp"
-#include "app/output_file.hpp"
+#include "common/output_file.hpp"
 #include "app/plot.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
@@ -27,6 +27,7 @@
 #include "navigation/run_summary.hpp"
 #include "navigation/tracker_config.hpp"
 #include "sensors/mrpt/rawlog_io.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st::app {
 
@@ -216,7 +217,7 @@ int runReplay(const ReplayOpts& o) {
         images.add(*ob, cfg.nav.camera_label);
         if (camera || ob->sensorLabel != cfg.nav.camera_label) return;
         if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(ob))
-          camera = CameraModel::fromTCamera(img->cameraParams);
+          camera = cameraFromTCamera(img->cameraParams);
       },
       &damage);
   if (damage.damaged) {

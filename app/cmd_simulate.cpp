@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "app/command.hpp"
-#include "app/output_file.hpp"
+#include "common/output_file.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/log.hpp"

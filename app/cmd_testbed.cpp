@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "app/camera_options.hpp"
+#include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
-#include "app/image_io.hpp"
-#include "app/output_file.hpp"
+#include "imageio/image_file.hpp"
+#include "common/output_file.hpp"
 #include "app/testbed/star_list.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
@@ -109,7 +109,7 @@ int runDraw(const DrawArgs& a) {
   list.stars = testbed::skyOnDisplay(g, u, mag, id, yprDeg(a.ypr), a.max_stars);
   testbed::DrawOptions o;
   o.dot_sigma_px = a.dot_sigma_px;
-  writeImage(a.output, testbed::drawDisplay(g, list.stars, o));
+  imageio::writeImage(a.output, testbed::drawDisplay(g, list.stars, o));
   const std::string csv = withExtension(a.output, ".csv");
   writeStarList(csv, list);
   std::printf("testbed draw: %zu stars V <= %g on a %dx%d px screen -> %s, star list %s\n",
@@ -124,7 +124,7 @@ int runDraw(const DrawArgs& a) {
 // ---- photograph ----
 struct PhotoArgs {
   GeometryArgs geo;
-  CameraOptions camera;
+  solve::CameraOptions camera;
   std::vector<int> size = {640, 480};
   std::vector<double> ypr = {0, 0, 0};
   double noise_adu = 2.0;
@@ -136,14 +136,14 @@ int runPhotograph(const PhotoArgs& a) {
   const DisplayGeometry g = a.geo.resolve();
   prepareOutputFile(a.output, "-o/--output");
   const CameraModel cam = a.camera.resolve(a.size[0], a.size[1]);
-  const cv::Mat screen = loadImage(a.screen).image;
+  const cv::Mat screen = imageio::loadImage(a.screen).image;
   if (screen.cols != g.screen_width_px || screen.rows != g.screen_height_px)
     throw InputError(a.screen + ": " + std::to_string(screen.cols) + "x" +
                      std::to_string(screen.rows) + " px, but --screen-px is " +
                      std::to_string(g.screen_width_px) + " " + std::to_string(g.screen_height_px));
   cv::Mat eight;
   screen.convertTo(eight, CV_8U, screen.depth() == CV_16U ? 1.0 / 257 : 1.0);
-  writeImage(a.output,
+  imageio::writeImage(a.output,
              testbed::photographDisplay(eight, g, cam, yprDeg(a.ypr), a.noise_adu, a.seed));
   std::printf("testbed photograph: %s seen by a %dx%d camera at platform yaw/pitch/roll %g %g "
               "%g deg -> %s\n",
@@ -155,7 +155,7 @@ int runPhotograph(const PhotoArgs& a) {
 // ---- solve ----
 struct SolveArgs {
   GeometryArgs geo;
-  CameraOptions camera;
+  solve::CameraOptions camera;
   std::vector<std::string> images;
   std::string stars;
   std::vector<double> prediction = {0, 0, 0};
@@ -185,7 +185,7 @@ int runSolve(const SolveArgs& a) {
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
   bool all_ok = true;
   for (const std::string& path : a.images) {
-    const cv::Mat img = loadImage(path).image;
+    const cv::Mat img = imageio::loadImage(path).image;
     const CameraModel cam = a.camera.resolve(img.cols, img.rows);
     const DetectionResult det = detectStars(img);
     std::vector<Vec3> b;
@@ -273,7 +273,7 @@ void addTestbedCommand(CLI::App& root, CommandRun& run) {
                                                   "at a platform attitude");
   auto p = std::make_shared<PhotoArgs>();
   p->geo.addTo(photo);
-  p->camera.addTo(*photo);
+  addCameraFlags(*photo, p->camera);
   photo->add_option("screen", p->screen, "Screen image (from testbed draw)")->required();
   photo->add_option("--size", p->size, "Camera image W H with --fov-deg")->expected(2)
       ->check(cli::WholeNumber(16, 16384))->capture_default_str();
@@ -290,7 +290,7 @@ void addTestbedCommand(CLI::App& root, CommandRun& run) {
                                              "iterative near-field method (seed 001 sec. IV.B)");
   auto s = std::make_shared<SolveArgs>();
   s->geo.addTo(solve);
-  s->camera.addTo(*solve);
+  addCameraFlags(*solve, s->camera);
   solve->add_option("images", s->images, "Camera images of the screen")->required();
   solve->add_option("--stars", s->stars, "Star list written by testbed draw (the display "
                     "database)")->required();

@@ -12,6 +12,7 @@
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/sim/simulated_sensors.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st::app {
 
@@ -50,7 +51,7 @@ std::vector<std::string> presentOf(const IniReader& r, const std::string& wanted
 }
 
 std::string printCamera(const IniReader& r, const std::string& sec) {
-  CameraIniKeys keys = CameraModel::loadIni(r, sec).iniKeys();
+  CameraIniKeys keys = cameraIniKeys(loadCameraIni(r, sec));
   keys.focal_length = r.num(sec, "focal_length", 0.0);  // informational: kept as written
   return cameraIniSchema().print(sec, keys);
 }

@@ -1,49 +1,38 @@
-// `startracker`: a launcher that links no library of the project, so that it starts in about
-// a millisecond. It answers `startracker --version` itself and execs startracker-cli (found
-// next to it) with the same argv for everything else. The program proper links OpenCV and
-// MRPT: some 330 shared libraries that the dynamic loader needs about 0.4 s to relocate
-// (measured with LD_DEBUG=statistics), which a script asking for the version, or a batch of
-// processes, should not pay.
-#include <unistd.h>
-
-#include <cerrno>
+// `startracker`: a launcher that links no library of the project. It execs the program that
+// serves the command: `solve` -> startracker-solve (the plate-solving stage only: OpenCV
+// core/imgproc, cfitsio and the image codecs, no MRPT), everything else -> startracker-cli
+// (MRPT's rawlogs, sensors, simulator and plots: some 330 shared libraries that the dynamic
+// loader needs about 0.4 s to map and relocate). `startracker --version` is answered here.
 #include <cstdio>
 #include <cstring>
-#include <string>
+
+#include "app/sibling_exec.hpp"
 
 namespace {
 
-/// True for `startracker --version` with no command (the flags allowed before a command,
-/// -v/-q/--version, take no value, so any other word is the command).
-bool versionOnly(int argc, char** argv) {
-  bool version = false;
-  for (int i = 1; i < argc; ++i) {
-    if (argv[i][0] != '-') return false;
-    if (std::strcmp(argv[i], "--version") == 0) version = true;
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) return false;
-  }
-  return version;
+/// The command word: the first argument that is not a flag (the flags allowed before a
+/// command, -v/-q/--version/--help, take no value). nullptr when there is none.
+const char* commandWord(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-') return argv[i];
+  return nullptr;
 }
 
-std::string siblingPath(const char* argv0, const char* name) {
-  char self[4096];
-  const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
-  std::string dir = n > 0 ? std::string(self, std::size_t(n)) : std::string(argv0);
-  const auto slash = dir.rfind('/');
-  dir = slash == std::string::npos ? "." : dir.substr(0, slash);
-  return dir + "/" + name;
+bool hasFlag(int argc, char** argv, const char* flag) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], flag) == 0) return true;
+  return false;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (versionOnly(argc, argv)) {
+  const char* command = commandWord(argc, argv);
+  if (!command && hasFlag(argc, argv, "--version") && !hasFlag(argc, argv, "--help") &&
+      !hasFlag(argc, argv, "-h")) {
     std::printf("startracker %s\n", ST_VERSION);
     return 0;
   }
-  const std::string cli = siblingPath(argv[0], "startracker-cli");
-  ::execv(cli.c_str(), argv);
-  // No st::log here: linking it would defeat the launcher; this is its one message.
-  std::fprintf(stderr, "error: cannot run %s: %s\n", cli.c_str(), std::strerror(errno));
-  return 1;
+  const bool solve = command && std::strcmp(command, "solve") == 0;
+  return st::app::execSibling(solve ? "startracker-solve" : "startracker-cli", argv);
 }

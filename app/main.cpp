@@ -1,44 +1,11 @@
-// startracker: one program, sub-commands registered in app/commands.cpp; what every command
-// shares (flags, number checks, parse messages, --json errors) lives in app/cli/.
-#include <exception>
-#include <string>
-#include <vector>
-
-#include "app/cli/common_flags.hpp"
-#include "app/cli/json_error.hpp"
-#include "app/cli/parse_errors.hpp"
-#include "app/cli/validators.hpp"
-#include "app/command.hpp"
-#include "common/errors.hpp"
-#include "common/log.hpp"
+// startracker-cli: every command (app/commands.cpp), with MRPT's rawlogs, sensors and plots,
+// and every image format OpenCV reads.
+#include "app/cli_main.hpp"
+#include "imageio/opencv/opencv_formats.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 int main(int argc, char** argv) {
-  using namespace st::app;
-  CLI::App root{"startracker: star images -> identified stars -> attitude with covariance, "
-                "fused with gyro rates.\nRun 'startracker <command> --help' for each command."};
-  root.require_subcommand(1);
-  root.get_formatter()->label("SUBCOMMAND", "COMMAND");  // shared by every command's help
-  CommandRun run;
-  addAllCommands(root, run);
-  cli::addCommonFlags(root, std::string("startracker ") + ST_VERSION);
-  cli::applyTypeChecks(root);
-
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  const bool json = cli::jsonRequested(args);
-  try {
-    root.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return root.exit(e);  // --help, --version
-    const std::string path = cli::commandPath(cli::chosenCommand(root));
-    st::log::setTag(path.substr(0, path.find(' ')));
-    return cli::reportFailure(cli::describeParseError(e, root, args), kExitUsage, json);
-  }
-  cli::applyCommonFlags(root);
-  try {
-    return run ? run() : kExitUsage;
-  } catch (const st::InputError& e) {
-    return cli::reportFailure(e.what(), kExitUsage, json);
-  } catch (const std::exception& e) {
-    return cli::reportFailure(e.what(), kExitFailure, json);
-  }
+  st::registerIniCameraReader();           // --camera FILE.ini
+  st::imageio::registerOpenCvFormats();    // BMP, WebP, ... and TIFF/PGM output
+  return st::app::runCommandLine(argc, argv, st::app::addAllCommands);
 }

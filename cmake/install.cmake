@@ -15,12 +15,12 @@ include(CMakePackageConfigHelpers)
 set(ST_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/startracker)
 set(ST_DATA_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/startracker)
 # Link order of the static libraries (each before what it uses): pkg-config needs it spelled.
-set(ST_EXPORTED_LIBS st_api st_fusion st_sensors_tracking st_sensors_identify st_sensors_detect
-    st_sensors_attitude st_sensors_camera st_catalog st_config st_common)
+set(ST_EXPORTED_LIBS st_api st_solve st_imageio st_fusion st_sensors_tracking st_sensors_identify
+    st_sensors_detect st_sensors_attitude st_sensors_camera st_catalog st_common)
 
 # `startracker` is the launcher (--version at once); every command runs startracker-cli
 # from the same folder.
-install(TARGETS startracker startracker-cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+install(TARGETS startracker startracker-cli startracker-solve RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
 install(TARGETS startracker_mrpt startracker_sim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         COMPONENT runtime)
 install(FILES ${ST_ROOT}/catalog/data/hip_main_v6.6.dat.gz ${ST_ROOT}/catalog/data/bsc5
@@ -47,59 +47,11 @@ install(FILES ${CMAKE_BINARY_DIR}/startrackerConfig.cmake
               ${CMAKE_BINARY_DIR}/startrackerConfigVersion.cmake
         DESTINATION ${ST_CMAKE_INSTALL_DIR} COMPONENT dev)
 
-# pkg-config: MRPT ships no .pc files, so its include folders and libraries are spelled out
-# from its imported targets (walked through their interface links).
-function(st_collect_imported target incs_var libs_var)
-  set(incs ${${incs_var}})
-  set(libs ${${libs_var}})
-  if(NOT TARGET ${target} OR ${target} IN_LIST ST_SEEN)
-    return()
-  endif()
-  set(ST_SEEN ${ST_SEEN} ${target} PARENT_SCOPE)
-  get_target_property(inc ${target} INTERFACE_INCLUDE_DIRECTORIES)
-  if(inc)
-    list(APPEND incs ${inc})
-  endif()
-  get_target_property(cfgs ${target} IMPORTED_CONFIGURATIONS)  # Debian's MRPT: NONE
-  set(props IMPORTED_LOCATION)
-  foreach(c ${cfgs})
-    list(APPEND props IMPORTED_LOCATION_${c})
-  endforeach()
-  foreach(prop ${props})
-    get_target_property(loc ${target} ${prop})
-    if(loc)
-      list(APPEND libs ${loc})
-      break()
-    endif()
-  endforeach()
-  get_target_property(deps ${target} INTERFACE_LINK_LIBRARIES)
-  foreach(d ${deps})
-    if(TARGET ${d} AND d MATCHES "^mrpt::")
-      st_collect_imported(${d} incs libs)
-    endif()
-  endforeach()
-  set(${incs_var} ${incs} PARENT_SCOPE)
-  set(${libs_var} ${libs} PARENT_SCOPE)
-  set(ST_SEEN ${ST_SEEN} PARENT_SCOPE)
-endfunction()
-set(ST_SEEN "")
-set(_mrpt_incs "")
-set(_mrpt_libs "")
-st_collect_imported(mrpt::img _mrpt_incs _mrpt_libs)
-st_collect_imported(mrpt::config _mrpt_incs _mrpt_libs)
-list(REMOVE_DUPLICATES _mrpt_incs)
-list(REMOVE_DUPLICATES _mrpt_libs)
+# pkg-config: the core library links no MRPT (the MRPT adapters are the plugins').
 set(ST_PC_CFLAGS "")
-list(REMOVE_ITEM _mrpt_incs /usr/include)  # a system folder as -I breaks #include_next
-foreach(i ${_mrpt_incs})
-  string(APPEND ST_PC_CFLAGS " -I${i}")
-endforeach()
 set(ST_PC_LIBS "")
 foreach(l ${ST_EXPORTED_LIBS})
   string(APPEND ST_PC_LIBS " -l${l}")
-endforeach()
-foreach(l ${_mrpt_libs})
-  string(APPEND ST_PC_LIBS " ${l}")
 endforeach()
 # The prefix relative to the .pc file, so that an unpacked tree (dpkg -x) works where it lies.
 file(RELATIVE_PATH ST_PC_PREFIX_REL /p/${CMAKE_INSTALL_LIBDIR}/pkgconfig /p)

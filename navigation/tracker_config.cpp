@@ -10,6 +10,7 @@
 #include "common/errors.hpp"
 #include "config/ini_reader.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st {
 
@@ -61,7 +62,7 @@ TrackerIniKeys readTrackerIni(const IniReader& r) {
   if (!k.nav.isValid(&why)) throw InputError(r.source + ": " + why);
   databaseIniSchema().read(r, "database", k.database);
   if (r.cfg.sectionExists("camera")) {
-    CameraModel::loadIni(r, "camera");  // the checks of the camera itself
+    loadCameraIni(r, "camera");  // the checks of the camera itself
     k.camera.emplace();
     cameraIniSchema().read(r, "camera", *k.camera);
   }
@@ -96,7 +97,7 @@ TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg
   c.database = k.database;
   c.database.path = resolvePath(k.database.path, base_dir);
   c.database.catalog = resolvePath(k.database.catalog, base_dir);
-  if (k.camera) c.camera = CameraModel::loadIni(r, "camera");
+  if (k.camera) c.camera = loadCameraIni(r, "camera");
   return c;
 }
 

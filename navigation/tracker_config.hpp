@@ -10,6 +10,7 @@
 #include "navigation/navigator.hpp"
 #include "navigation/tracker_ini.hpp"
 #include "sensors/camera/camera_model.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace mrpt::config {
 class CConfigFileBase;

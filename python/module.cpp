@@ -10,7 +10,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "app/image_io.hpp"
+#include "imageio/image_file.hpp"
+#include "imageio/opencv/opencv_formats.hpp"
 #include "include/startracker/startracker.hpp"
 
 namespace py = pybind11;
@@ -62,8 +63,9 @@ st::api::SolveOptions solveOptions(std::optional<double> fov_deg, const std::str
                                    double mag_limit, std::optional<double> epoch, int max_stars,
                                    const std::string& parity, std::optional<double> ra,
                                    std::optional<double> dec, std::optional<double> radius,
-                                   double cpulimit, const std::string& name) {
+                                   double cpulimit, const std::string& name, bool no_aberration) {
   st::api::SolveOptions o;
+  o.no_aberration = no_aberration;
   o.fov_deg = fov_deg;
   o.camera_file = camera;
   o.fov_min_deg = fov_range.first;
@@ -101,6 +103,7 @@ st::CameraModel trackerCamera(int width, int height, std::optional<double> fov_d
 
 PYBIND11_MODULE(_startracker, m) {
   m.doc() = "Star tracker: plate solve a NumPy image, track frame by frame (C++ core)";
+  st::imageio::registerOpenCvFormats();  // read_image/solve_file take what the CLI takes
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -112,10 +115,10 @@ PYBIND11_MODULE(_startracker, m) {
   m.def(
       "read_image",
       [](const std::string& path) {
-        st::app::LoadedImage img;
+        st::imageio::LoadedImage img;
         {
           py::gil_scoped_release nogil;
-          img = st::app::loadImage(path);
+          img = st::imageio::loadImage(path);
         }
         const cv::Mat& m = img.image;
         py::array out = m.type() == CV_16UC1
@@ -161,10 +164,11 @@ PYBIND11_MODULE(_startracker, m) {
          const std::string& solver, double mag_limit, std::optional<double> epoch, int max_stars,
          const std::string& parity, std::optional<double> ra, std::optional<double> dec,
          std::optional<double> radius, double cpulimit, const std::string& name,
-         const st::api::Database* database) {
+         const st::api::Database* database, bool no_aberration) {
         const cv::Mat view = matView(image);
         const auto o = solveOptions(fov_deg, camera, fov_range, algorithm, solver, mag_limit,
-                                    epoch, max_stars, parity, ra, dec, radius, cpulimit, name);
+                                    epoch, max_stars, parity, ra, dec, radius, cpulimit, name,
+                                    no_aberration);
         st::api::SolveResult r;
         {
           py::gil_scoped_release nogil;
@@ -174,19 +178,20 @@ PYBIND11_MODULE(_startracker, m) {
       },
       py::arg("image"), py::arg("fov_deg") = py::none(), py::arg("camera") = "",
       py::arg("fov_range") = std::make_pair(5.0, 30.0), py::arg("algorithm") = "",
-      py::arg("solver") = "quest", py::arg("mag_limit") = 6.6, py::arg("epoch") = py::none(),
+      py::arg("solver") = "", py::arg("mag_limit") = 6.6, py::arg("epoch") = py::none(),
       py::arg("max_stars") = 12, py::arg("parity") = "both", py::arg("ra") = py::none(),
       py::arg("dec") = py::none(), py::arg("radius") = py::none(), py::arg("cpulimit") = 0.0,
-      py::arg("name") = "<array>", py::arg("database") = nullptr, solve_doc);
+      py::arg("name") = "<array>", py::arg("database") = nullptr,
+      py::arg("no_aberration") = false, solve_doc);
   m.def(
       "solve_file",
       [](const std::string& path, std::optional<double> fov_deg, const std::string& camera,
          std::pair<double, double> fov_range, const std::string& algorithm,
          const std::string& solver, double mag_limit, std::optional<double> epoch, int max_stars,
-         const std::string& parity, const st::api::Database* database) {
+         const std::string& parity, const st::api::Database* database, bool no_aberration) {
         const auto o = solveOptions(fov_deg, camera, fov_range, algorithm, solver, mag_limit,
                                     epoch, max_stars, parity, std::nullopt, std::nullopt,
-                                    std::nullopt, 0, "<memory>");
+                                    std::nullopt, 0, "<memory>", no_aberration);
         st::api::SolveResult r;
         {
           py::gil_scoped_release nogil;
@@ -196,9 +201,9 @@ PYBIND11_MODULE(_startracker, m) {
       },
       py::arg("path"), py::arg("fov_deg") = py::none(), py::arg("camera") = "",
       py::arg("fov_range") = std::make_pair(5.0, 30.0), py::arg("algorithm") = "",
-      py::arg("solver") = "quest", py::arg("mag_limit") = 6.6, py::arg("epoch") = py::none(),
+      py::arg("solver") = "", py::arg("mag_limit") = 6.6, py::arg("epoch") = py::none(),
       py::arg("max_stars") = 12, py::arg("parity") = "both", py::arg("database") = nullptr,
-      "solve() on an image file; its epoch from DATE-OBS or the file name");
+      py::arg("no_aberration") = false, "solve() on an image file; its epoch from DATE-OBS or the file name");
 
   py::class_<st::api::Tracker>(m, "Tracker")
       .def(py::init([](int width, int height, std::optional<double> fov_deg,

@@ -21,4 +21,6 @@ for exe in "$BUILD"/tests/bench_*; do
     --benchmark_repetitions=3 --benchmark_report_aggregates_only=true >&2
 done
 python3 scripts/benchmarks_to_md.py "$OUT" > BENCHMARKS.md
+# Whole processes (start-up as users feel it): its own section of BENCHMARKS.md.
+python3 scripts/startup.py --exe "$BUILD/app/startracker" >/dev/null
 echo "wrote BENCHMARKS.md" >&2

@@ -3,11 +3,15 @@
 #include <cstdio>
 
 #include "common/log.hpp"
+#include "solve/solve_output.hpp"
 
 namespace st::app::cli {
 
 nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {
-  return {{"error", message}, {"exit_code", exit_code}};
+  nlohmann::ordered_json j = solve::errorJson(message, exit_code);  // one place for the keys
+  j.erase("solved");
+  j.erase("status");
+  return j;
 }
 
 bool jsonRequested(const std::vector<std::string>& args) {

@@ -4,6 +4,7 @@
 
 #include "common/errors.hpp"
 #include "navigation/tracker_config.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st::app {
 
@@ -29,7 +30,7 @@ std::string replayConfigText(const CStarTrackerSensor& tracker, const LiveIniKey
   k.database.mag_limit = b.mag_limit;
   k.database.epoch_jyear = b.epoch_jyear;
   k.database.aberration = b.aberration;
-  k.camera = tracker.camera().iniKeys();
+  k.camera = cameraIniKeys(tracker.camera());
   return "# Written by `startracker live` beside its rawlog: the star tracker and filter of that\n"
          "# run, for `startracker replay RAWLOG --config THIS_FILE` (the same fixes).\n\n" +
          printTrackerIni(k);

@@ -34,6 +34,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -71,6 +72,7 @@ class Database {
                             double epoch_jyear = 0);
 
   const StarDatabase& stars() const { return *db_; }
+  const std::shared_ptr<const StarDatabase>& shared() const { return db_; }
   /// The file it came from, or how it was built.
   const std::string& source() const { return source_; }
   /// True when it was read from a file (solve then checks the image epoch against it).
@@ -91,15 +93,19 @@ struct SolveOptions {
   std::string camera_section = "CAMERA";
   double fov_min_deg = 5, fov_max_deg = 30;  ///< the FOV search range
   std::string algorithm;               ///< lost-in-space identifier ("" = the default)
-  std::string solver = "quest";        ///< Wahba solver
+  std::string solver;                  ///< Wahba solver ("" = the default)
   double mag_limit = 6.6;              ///< of a database built in memory
   std::optional<double> epoch_jyear;   ///< observation epoch; none = the image's, else today
+  bool no_aberration = false;          ///< astrometric (ICRS, as astrometry.net) instead of apparent
+  std::vector<double> observer_velocity_km_s;  ///< 3 values [km/s], added to the Earth's
+  bool no_cache = false;               ///< never read or write the disk cache of databases
   int max_stars = 12;                  ///< brightest stars the identifier uses
   std::optional<double> min_sigma_px;  ///< centroid sigma floor (default as `solve`)
   std::string parity = "both";         ///< "normal", "flipped" or "both"
   double ra_deg = NAN, dec_deg = NAN, radius_deg = NAN;  ///< position hint (all or none)
   double cpulimit_s = 0;               ///< 0 = no limit
   std::string name = "<memory>";       ///< what the result's "image" field says
+  int width = 0, height = 0;           ///< image size of a star list given to solveFile
 };
 
 struct SolveResult {
@@ -121,8 +127,9 @@ SolveResult solve(const cv::Mat& image, const SolveOptions& options = {},
 /// The same on a caller's buffer (`type` CV_8UC1 or CV_16UC1; `step_bytes` 0 = packed rows).
 SolveResult solve(const void* data, int width, int height, int type, std::size_t step_bytes,
                   const SolveOptions& options = {}, const Database* db = nullptr);
-/// The same on an image file (PNG, JPEG, TIFF, FITS): its epoch comes from DATE-OBS or a
-/// date in the file name, as for `startracker solve FILE`.
+/// The same on an image file (PNG, JPEG, TIFF, FITS), or a star list (CSV x,y[,flux] or a FITS
+/// table, with `width` and `height`): its epoch comes from DATE-OBS or a date in the file
+/// name, as for `startracker solve FILE`.
 SolveResult solveFile(const std::string& path, SolveOptions options = {},
                       const Database* db = nullptr);
 

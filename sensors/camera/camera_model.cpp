@@ -1,8 +1,5 @@
 #include "sensors/camera/camera_model.hpp"
 
-#include <mrpt/config/CConfigFile.h>
-#include <mrpt/img/TCamera.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -17,9 +14,9 @@
 namespace st {
 
 CameraModel::CameraModel(int width, int height, double fx, double fy, double cx, double cy,
-                         Distortion dist)
+                         Distortion dist, const std::string& source)
     : width_(width), height_(height), fx_(fx), fy_(fy), cx_(cx), cy_(cy), dist_(dist) {
-  validate("camera model");
+  validate(source);
 }
 
 void CameraModel::validate(const std::string& source) const {
@@ -142,8 +139,7 @@ std::string CameraModel::describe() const {
 
 // ---- files --------------------------------------------------------------------------
 
-namespace {
-void requireFile(const std::string& path) {
+void requireCameraFile(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path + ": camera file does not exist");
   if (std::filesystem::is_directory(path))
     throw InputError(path + ": camera file is a directory");
@@ -160,7 +156,27 @@ Distortion distortionFromVector(const std::vector<double>& d, const std::string&
   Distortion dist{d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0};
   return dist;
 }
+
+namespace {
+CameraFileReader& iniReaderHook() {
+  static CameraFileReader reader;
+  return reader;
+}
 }  // namespace
+
+void setIniCameraReader(CameraFileReader reader) { iniReaderHook() = std::move(reader); }
+
+bool isIniCameraPath(const std::string& path) {
+  return path.size() > 4 && path.compare(path.size() - 4, 4, ".ini") == 0;
+}
+
+CameraModel CameraModel::loadFile(const std::string& path, const std::string& section) {
+  if (!isIniCameraPath(path)) return loadYaml(path);
+  if (!iniReaderHook())
+    throw InputError(path + ": MRPT .ini camera files are read by the MRPT adapters "
+                     "(sensors/mrpt/camera_ini.hpp), which this program does not link");
+  return iniReaderHook()(path, section);
+}
 
 /// A '!' that is not part of a "!!" tag, outside comments and quotes; npos when none. OpenCV
 /// writes only "!!opencv-matrix"-style tags.
@@ -213,7 +229,7 @@ void requireTextFile(const std::string& path) {
 }
 
 CameraModel CameraModel::loadYaml(const std::string& path) {
-  requireFile(path);
+  requireCameraFile(path);
   requireTextFile(path);
   cv::FileStorage fs;
   try {
@@ -281,98 +297,5 @@ void CameraModel::saveYaml(const std::string& path) const {
 
 namespace {
 }  // namespace
-
-const SectionSchema<CameraIniKeys>& cameraIniSchema() {
-  using K = CameraIniKeys;
-  static const auto schema =
-      SectionSchema<K>()
-          .add("resolution", &K::resolution, "[width height] image size in pixels")
-          .required()
-          .add("fov_deg", &K::fov_deg,
-               "[deg] horizontal field of view; replaces fx fy cx cy (0 = use them)")
-          .add("fx", &K::fx, "[px] focal length along x (columns)")
-          .add("fy", &K::fy, "[px] focal length along y (rows)")
-          .add("cx", &K::cx, "[px] principal point column")
-          .add("cy", &K::cy, "[px] principal point row")
-          .add("dist", &K::dist, "[k1 k2 p1 p2 k3] OpenCV radial-tangential distortion")
-          .add("focal_length", &K::focal_length, "[m] physical focal length (MRPT TCamera; not used)");
-  return schema;
-}
-
-CameraModel CameraModel::loadIni(const mrpt::config::CConfigFileBase& cfg,
-                                 const std::string& section, const std::string& source_name) {
-  return loadIni(IniReader{cfg, source_name}, section);
-}
-
-CameraModel CameraModel::loadIni(const IniReader& r, const std::string& section) {
-  CameraIniKeys k;
-  cameraIniSchema().read(r, section, k);
-  const std::string where = r.where(section);
-  if (k.resolution.size() != 2)
-    throw InputError(r.whereKey(section, "resolution") + ": must be [width height]");
-  for (double v : k.resolution)  // before the cast to int (a fuzz finding)
-    if (!(v >= 1 && v <= 1e6))
-      throw InputError(r.whereKey(section, "resolution") + ": width and height must be in [1, 1000000] px");
-  const int w = static_cast<int>(k.resolution[0]), h = static_cast<int>(k.resolution[1]);
-  const Distortion dist = distortionFromVector(k.dist, r.whereKey(section, "dist"));
-  if (k.fov_deg != 0) {  // 0 is the printed "not used"
-    // Either form, never both: two sources of the focal length would silently disagree.
-    for (const char* key : {"fx", "fy", "cx", "cy"})
-      if (r.has(section, key))
-        throw InputError(r.whereKey(section, key) + ": give either fov_deg or fx fy cx cy");
-    if (!(k.fov_deg > 0 && k.fov_deg < 180))  // fromFov's check, naming the file and key
-      throw InputError(r.whereKey(section, "fov_deg") + ": must be in (0, 180) deg, got " +
-                       std::to_string(k.fov_deg));
-    const CameraModel cam = fromFov(w, h, deg2rad(k.fov_deg));
-    return CameraModel(w, h, cam.fx(), cam.fy(), cam.cx(), cam.cy(), dist);
-  }
-  for (const char* key : {"fx", "fy", "cx", "cy"})
-    if (!r.has(section, key))
-      throw InputError(r.whereKey(section, key) + ": missing key (or give fov_deg)");
-  CameraModel cam;
-  cam.width_ = w;
-  cam.height_ = h;
-  cam.fx_ = k.fx;
-  cam.fy_ = k.fy;
-  cam.cx_ = k.cx;
-  cam.cy_ = k.cy;
-  cam.dist_ = dist;
-  cam.validate(where);
-  return cam;
-}
-
-CameraIniKeys CameraModel::iniKeys() const {
-  CameraIniKeys k;
-  k.resolution = {static_cast<double>(width_), static_cast<double>(height_)};
-  k.fx = fx_;
-  k.fy = fy_;
-  k.cx = cx_;
-  k.cy = cy_;
-  k.dist = {dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3};
-  return k;
-}
-
-CameraModel CameraModel::loadIniFile(const std::string& path, const std::string& section) {
-  requireFile(path);
-  const auto file = openIniFile(path);
-  const mrpt::config::CConfigFile& cfg = *file;
-  if (!cfg.sectionExists(section)) throw InputError(path + ": missing section [" + section + "]");
-  return loadIni(cfg, section, path);
-}
-
-CameraModel CameraModel::fromTCamera(const mrpt::img::TCamera& c) {
-  CameraModel cam(static_cast<int>(c.ncols), static_cast<int>(c.nrows), c.fx(), c.fy(), c.cx(),
-                  c.cy(), Distortion{c.k1(), c.k2(), c.p1(), c.p2(), c.k3()});
-  return cam;
-}
-
-mrpt::img::TCamera CameraModel::toTCamera() const {
-  mrpt::img::TCamera c;
-  c.ncols = static_cast<uint32_t>(width_);
-  c.nrows = static_cast<uint32_t>(height_);
-  c.setIntrinsicParamsFromValues(fx_, fy_, cx_, cy_);
-  c.setDistortionPlumbBob(dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
-  return c;
-}
 
 }  // namespace st

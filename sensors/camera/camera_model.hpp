@@ -10,29 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "common/attitude.hpp"
-#include "config/schema.hpp"
+#include <functional>
 
-namespace mrpt::config {
-class CConfigFileBase;
-}
-namespace mrpt::img {
-class TCamera;
-}
+#include "common/attitude.hpp"
 
 namespace st {
-
-/// The keys of a camera .ini section: MRPT TCamera's (resolution, fx, fy, cx, cy, dist,
-/// focal_length) plus the shorthand fov_deg, which replaces fx fy cx cy (square pixels,
-/// principal point at the centre). Schema: cameraIniSchema().
-struct CameraIniKeys {
-  std::vector<double> resolution;  ///< [w h], required
-  double fov_deg = 0;              ///< 0 = not used (fx fy cx cy given)
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  std::vector<double> dist = {0, 0, 0, 0, 0};
-  double focal_length = 0;  ///< [m] informational (TCamera writes it); not used
-};
-const SectionSchema<CameraIniKeys>& cameraIniSchema();
 
 /// OpenCV distortion coefficients in OpenCV's order.
 struct Distortion {
@@ -45,7 +27,7 @@ class CameraModel {
   CameraModel() = default;
   /// Throws InputError naming the bad value if the invariant does not hold.
   CameraModel(int width, int height, double fx, double fy, double cx, double cy,
-              Distortion dist = {});
+              Distortion dist = {}, const std::string& source = "camera model");
 
   /// The common case: square pixels, principal point at the image centre
   /// ((w-1)/2, (h-1)/2), no distortion, horizontal field of view `hfov` [rad].
@@ -57,19 +39,9 @@ class CameraModel {
   static CameraModel loadYaml(const std::string& path);
   void saveYaml(const std::string& path) const;
 
-  /// An MRPT .ini section in mrpt::img::TCamera style: `resolution = [w h]`, `cx`, `cy`,
-  /// `fx`, `fy`, `dist = [k1 k2 p1 p2 k3]`, or `resolution` with `fov_deg` (CameraIniKeys).
-  /// Strict: throws InputError naming the source, section and key (unknown keys too).
-  static CameraModel loadIni(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
-                             const std::string& source_name = "ini");
-  static CameraModel loadIni(const IniReader& r, const std::string& section);
-  static CameraModel loadIniFile(const std::string& path, const std::string& section);
-
-  /// MRPT's camera parameters (CObservationImage::cameraParams carries them in rawlogs).
-  static CameraModel fromTCamera(const mrpt::img::TCamera& cam);
-  /// The .ini keys of this camera in the explicit form (fx fy cx cy; loadIni gives it back).
-  CameraIniKeys iniKeys() const;
-  mrpt::img::TCamera toTCamera() const;
+  /// A camera file by its name: an MRPT .ini (`section` of it) through the reader the MRPT
+  /// adapters register (setIniCameraReader), anything else loadYaml.
+  static CameraModel loadFile(const std::string& path, const std::string& section = "CAMERA");
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -116,5 +88,19 @@ class CameraModel {
   double fx_ = 0, fy_ = 0, cx_ = 0, cy_ = 0;
   Distortion dist_;
 };
+
+/// Throws InputError naming the file when `path` is missing or a directory.
+void requireCameraFile(const std::string& path);
+/// OpenCV's coefficient vector (4, 5 or more, extra terms 0) as a Distortion; InputError
+/// naming `where` otherwise.
+Distortion distortionFromVector(const std::vector<double>& d, const std::string& where);
+
+/// Reads `section` of an MRPT .ini camera file. The core camera stage does not link MRPT: the
+/// MRPT adapters install their reader (sensors/mrpt/camera_ini.hpp) in the programs that
+/// link them.
+using CameraFileReader = std::function<CameraModel(const std::string& path, const std::string& section)>;
+void setIniCameraReader(CameraFileReader reader);
+/// True for a camera file name ending in ".ini".
+bool isIniCameraPath(const std::string& path);
 
 }  // namespace st

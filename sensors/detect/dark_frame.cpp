@@ -1,5 +1,7 @@
 #include "sensors/detect/dark_frame.hpp"
 
+#include "imageio/image_file.hpp"
+
 #include <fitsio.h>
 
 #include <algorithm>
@@ -7,7 +9,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "common/check.hpp"
 #include "common/errors.hpp"
@@ -104,8 +105,7 @@ DarkStats darkStats(const cv::Mat& dark, double k_sigma) {
 
 cv::Mat readDarkFrame(const std::string& path) {
   if (endsWithFits(path)) return readFitsDark(path);
-  const cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw InputError(path + ": cannot read the dark frame (FITS, PNG, TIFF or PGM)");
+  const cv::Mat img = imageio::readImagePixels(path);
   if (img.channels() != 1 || (img.depth() != CV_8U && img.depth() != CV_16U))
     throw InputError(path + ": a dark frame is a mono 8- or 16-bit image (this is " +
                      cv::typeToString(img.type()) + ")");

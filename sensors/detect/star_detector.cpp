@@ -4,7 +4,6 @@
 #include <cmath>
 #include <exception>
 
-#include <mrpt/img/CImage.h>
 #include <opencv2/imgproc.hpp>
 
 #include "common/check.hpp"
@@ -211,29 +210,6 @@ std::vector<WindowResult> StarDetector::centroidWindows(
   return out;
 }
 
-// An mrpt image that cannot be read (an external file gone) is a bad image: a reason, not a
-// throw.
-DetectionResult StarDetector::detect(const mrpt::img::CImage& image) {
-  try {
-    return detect(image.asCvMatRef());
-  } catch (const std::exception& e) {
-    DetectionResult r;
-    r.reason = std::string("cannot read image: ") + e.what();
-    return r;
-  }
-}
-
-void StarDetector::centroidWindows(const mrpt::img::CImage& image,
-                                   const std::vector<PredictedStar>& predicted,
-                                   std::vector<WindowResult>& out) {
-  try {
-    centroidWindows(image.asCvMatRef(), predicted, out);
-  } catch (const std::exception& e) {
-    out.assign(predicted.size(), WindowResult{});
-    for (auto& w : out) w.reason = std::string("cannot read image: ") + e.what();
-  }
-}
-
 // ---- the free functions: one detector per call ------------------------------------------
 
 namespace {
@@ -249,22 +225,10 @@ DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts) {
   return oneShot(opts).detect(image);
 }
 
-DetectionResult detectStars(const mrpt::img::CImage& image, const DetectorOptions& opts) {
-  return oneShot(opts).detect(image);
-}
-
 std::vector<WindowResult> centroidWindows(const cv::Mat& image,
                                           const std::vector<PredictedStar>& predicted,
                                           const DetectorOptions& opts) {
   return oneShot(opts).centroidWindows(image, predicted);
-}
-
-std::vector<WindowResult> centroidWindows(const mrpt::img::CImage& image,
-                                          const std::vector<PredictedStar>& predicted,
-                                          const DetectorOptions& opts) {
-  std::vector<WindowResult> out;
-  oneShot(opts).centroidWindows(image, predicted, out);
-  return out;
 }
 
 }  // namespace st

@@ -4,8 +4,8 @@
 ///   StarDetector::detect           full frame, when lost (lost-in-space);
 ///   StarDetector::centroidWindows  only small windows around predicted stars, when tracking
 ///                                  (§4.2.3).
-/// Input: 8- or 16-bit grey cv::Mat (colour is converted to grey) or an mrpt::img::CImage
-/// (read through asCvMatRef(), no copy). Bad images give an empty result with a reason.
+/// Input: 8- or 16-bit grey cv::Mat (colour is converted to grey; MRPT's CImage through
+/// sensors/mrpt/image_detect.hpp). Bad images give an empty result with a reason.
 /// Options are validated once, when the StarDetector is built; the free functions
 /// detectStars / centroidWindows are convenience wrappers that build one per call (and so
 /// validate, throwing InputError naming the field, and allocate every time): per-frame code
@@ -20,10 +20,6 @@
 
 #include "sensors/detect/centroid.hpp"
 #include "sensors/detect/detector_options.hpp"
-
-namespace mrpt::img {
-class CImage;
-}
 
 namespace st {
 
@@ -93,14 +89,10 @@ class StarDetector {
   DetectionResult detect(const cv::Mat& image);
   /// The same into `out`, whose star vector keeps its capacity from frame to frame.
   void detect(const cv::Mat& image, DetectionResult& out);
-  DetectionResult detect(const mrpt::img::CImage& image);
 
   /// Only the windows (background from each window's border); `out` gets one result per
   /// predicted star, its capacity reused between calls.
   void centroidWindows(const cv::Mat& image, const std::vector<PredictedStar>& predicted,
-                       std::vector<WindowResult>& out);
-  void centroidWindows(const mrpt::img::CImage& image,
-                       const std::vector<PredictedStar>& predicted,
                        std::vector<WindowResult>& out);
   std::vector<WindowResult> centroidWindows(const cv::Mat& image,
                                             const std::vector<PredictedStar>& predicted);
@@ -115,13 +107,9 @@ class StarDetector {
 
 /// Convenience wrappers: one StarDetector per call (validates, may throw InputError).
 DetectionResult detectStars(const cv::Mat& image, const DetectorOptions& opts = {});
-DetectionResult detectStars(const mrpt::img::CImage& image, const DetectorOptions& opts = {});
 
 /// Reads only the windows (background from each window's border).
 std::vector<WindowResult> centroidWindows(const cv::Mat& image,
-                                          const std::vector<PredictedStar>& predicted,
-                                          const DetectorOptions& opts = {});
-std::vector<WindowResult> centroidWindows(const mrpt::img::CImage& image,
                                           const std::vector<PredictedStar>& predicted,
                                           const DetectorOptions& opts = {});
 

@@ -66,4 +66,18 @@ PlateSolveResult solveBothParities(const std::vector<Centroid>& centroids, int w
   return out;
 }
 
+PlateSolveResult lostInSpace(const std::vector<Centroid>& centroids, int width, int height,
+                             const StarDatabase& db, StarIdentifier& identifier,
+                             const LostInSpaceCameras& cameras, double sigma_floor_px,
+                             ParityChoice parity, const SearchLimits& limits) {
+  const CentroidSearch search = [&](const std::vector<Centroid>& s) {
+    if (cameras.camera)
+      return identifyAndFit(s, *cameras.camera, db, identifier, cameras.policy, sigma_floor_px,
+                            limits);
+    return identifyUnknownFov(s, width, height, db, identifier, cameras.fov_grid,
+                              cameras.scale_tol, sigma_floor_px, limits);
+  };
+  return solveBothParities(centroids, width, parity, limits, search);
+}
+
 }  // namespace st

@@ -59,4 +59,23 @@ PlateSolveResult solveBothParities(const std::vector<Centroid>& centroids, int w
                                    ParityChoice choice, const SearchLimits& limits,
                                    const CentroidSearch& search);
 
+/// The cameras a lost-in-space search tries: one camera with the fit its source allows (a
+/// camera file healed when it fails, an approximate FOV refined, the tracker's camera as it
+/// is), or, without one, a grid of horizontal FOVs.
+struct LostInSpaceCameras {
+  std::optional<CameraModel> camera;
+  CameraFitPolicy policy = CameraFitPolicy::fixed();
+  std::vector<double> fov_grid;  ///< [rad] when there is no camera
+  double scale_tol = 0.02;
+};
+
+/// The one lost-in-space driver, used by `solve` (solve/identify_frame.cpp) and by the
+/// tracker when it is lost (sensors/tracking/star_tracker.cpp): identify and fit with the
+/// cameras given, over the parities `parity` allows, within `limits`. `sigma_floor_px`
+/// floors the centroid sigma (the camera model's error on real frames).
+PlateSolveResult lostInSpace(const std::vector<Centroid>& centroids, int width, int height,
+                             const StarDatabase& db, StarIdentifier& identifier,
+                             const LostInSpaceCameras& cameras, double sigma_floor_px,
+                             ParityChoice parity, const SearchLimits& limits = {});
+
 }  // namespace st

@@ -5,6 +5,7 @@
 
 #include "common/check.hpp"
 #include "common/mrpt_convert.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st {
 
@@ -17,7 +18,7 @@ mrpt::obs::CObservationImage::Ptr makeCameraObservation(const cv::Mat& image,
   obs->timestamp = t;
   obs->sensorLabel = label;
   obs->cameraPose = mount;
-  obs->cameraParams = cam.toTCamera();
+  obs->cameraParams = toTCamera(cam);
   obs->image = mrpt::img::CImage(image, mrpt::img::DEEP_COPY);
   return obs;
 }

@@ -2,7 +2,7 @@
 /// The rawlog contract (DESIGN.md "Rawlogs"): which stock MRPT observation carries what, under
 /// which label, so that any MRPT tool reads our rawlogs and any producer (the simulator, a
 /// real camera + IMU, a recording of `live`) can feed `replay`:
-///  - CAMERA: CObservationImage, 8- or 16-bit grey, cameraParams = CameraModel::toTCamera(),
+///  - CAMERA: CObservationImage, 8- or 16-bit grey, cameraParams = toTCamera(camera),
 ///    timestamp = mid-exposure;
 ///  - GYRO: CObservationIMU, IMU_WX/WY/WZ = mean body rate [rad/s] over the sample interval
 ///    ending at the timestamp (dataIsPresent set);

@@ -22,6 +22,7 @@
 #include "catalog/database_recipe.hpp"
 #include "sensors/mrpt/image_source.hpp"
 #include "sensors/mrpt/star_tracker_sensor_ini.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 IMPLEMENTS_GENERIC_SENSOR(CStarTrackerSensor, st)
 
@@ -174,7 +175,7 @@ void CStarTrackerSensor::initialize() {
           endsWith(camera_file_, ".xml")) {
         camera_ = CameraModel::loadYaml(camera_file_);
       } else {
-        camera_ = CameraModel::loadIniFile(camera_file_, camera_file_section_);
+        camera_ = loadCameraIniFile(camera_file_, camera_file_section_);
       }
     } catch (const InputError& e) {
       throw InputError("section '" + s + "' key 'camera_file': " + e.what());
@@ -334,7 +335,7 @@ void CStarTrackerSensor::processFrame(mrpt::obs::CObservationImage& image_obs,
   const double t_s = mrpt::system::timeDifference(*first_frame_, t);
   // The frame is recorded with the camera it was processed with (replay starts from the
   // first frame's and refines as this run did).
-  image_obs.cameraParams = tracker_->camera().toTCamera();
+  image_obs.cameraParams = toTCamera(tracker_->camera());
   const std::optional<double> seen = frozen_.repeats(image, t_s);
   const FrameResult frame = seen ? frozenFrameResult(*seen) : tracker_->process(image, t_s, inputs);
   if (frame.camera_updated) updateCameraReport();

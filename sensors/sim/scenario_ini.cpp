@@ -9,6 +9,7 @@
 #include "common/errors.hpp"
 #include "common/utc_time.hpp"
 #include "sensors/sim/scenario.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st {
 
@@ -93,7 +94,7 @@ ScenarioIni readScenarioIni(const IniReader& r) {
   checkNamedSection(r, "gyro_section", k.gyro_section, false);
   checkNamedSection(r, "faults_section", k.faults_section, false);
   checkNamedSection(r, "orbit_section", k.orbit_section, false);
-  sc.camera = CameraModel::loadIni(r, k.camera_section);
+  sc.camera = loadCameraIni(r, k.camera_section);
   sc.sensor = SensorParams::fromConfig(r, k.sensor_section);
   sc.motion = readMotionKeys(r, k.motion_section);
   MotionProfile::fromKeys(sc.motion, r.where(k.motion_section));  // validates the values
@@ -150,7 +151,7 @@ std::string printScenarioIni(const ScenarioIni& sc) {
   if (const auto at = out.find(orbit_named); !sc.orbit && at != std::string::npos)
     out.replace(at, orbit_named.size(),
                 "\n# orbit_section = " + k.orbit_section + " (absent: no orbit)\n");
-  out += cameraIniSchema().print(k.camera_section, sc.camera.iniKeys()) + "\n";
+  out += cameraIniSchema().print(k.camera_section, cameraIniKeys(sc.camera)) + "\n";
   out += sensorParamsSchema().print(k.sensor_section, sc.sensor) + "\n";
   out += motionSchema(sc.motion.type).print(k.motion_section, sc.motion) + "\n";
   if (sc.gyro) out += gyroKeysSchema().print(k.gyro_section, *sc.gyro) + "\n";

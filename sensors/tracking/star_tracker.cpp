@@ -1,5 +1,7 @@
 #include "sensors/tracking/star_tracker.hpp"
 
+#include "sensors/identify/plate_solve.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -277,7 +279,14 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
     policy.heal_range = opts_.camera_heal_range;
   }
   const double floor_px = std::hypot(opts_.min_sigma_px, model_error_px_);
-  FovSearchResult found = identifyAndFit(det.stars, camera_, db_, *identifier_, policy, floor_px);
+  LostInSpaceCameras lis;
+  lis.camera = camera_;
+  lis.policy = policy;
+  // The same driver as `solve` (identify/plate_solve.hpp), with the tracker's one camera and
+  // the normal parity: a camera file's frame is a proper rotation of the sky.
+  FovSearchResult found = st::lostInSpace(det.stars, camera_.width(), camera_.height(), db_,
+                                      *identifier_, lis, floor_px, ParityChoice::Normal)
+                              .search;
   const IdentifyResult& res = found.result;
   const std::vector<StarObservation>& obs = found.obs;
   out.timings.identify = 1e-3 * res.timing.pattern_ms;

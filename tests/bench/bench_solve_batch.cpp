@@ -12,7 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "app/solve/solve_run.hpp"
+#include "solve/plate_solver.hpp"
 #include "catalog/database_recipe.hpp"
 #include "common/conventions.hpp"
 #include "common/log.hpp"
@@ -31,13 +31,12 @@ void BM_BatchSolveTiffFrame(benchmark::State& state) {
   log::setVerbosity(log::Verbosity::kQuiet);
   useOwnCache();
   const auto frames = test::tetra3Frames();
-  app::SolveOptions o;
+  solve::SolveOptions o;
   o.camera.fov_deg = 11.4;
-  app::SolveSources src(o);
+  const solve::PlateSolver solver(o);
   std::size_t k = 0, solved = 0;
   for (auto _ : state) {
-    o.input = frames[k++ % frames.size()];
-    auto f = app::solveFrame(o, src);
+    auto f = solver.solveFile(frames[k++ % frames.size()]);
     solved += f->code == 0;
     benchmark::DoNotOptimize(f);
   }
@@ -57,9 +56,9 @@ void BM_DatabaseCacheHit(benchmark::State& state) {
   r.mag_limit = 6.6;
   r.epoch_jyear = 2019.574;
   const DatabaseParams p = databaseParams(r);
-  app::DatabaseCache(StarDatabase::defaultCatalogPath(), true).get(p);  // written once
+  solve::DatabaseCache(StarDatabase::defaultCatalogPath(), true).get(p);  // written once
   for (auto _ : state) {
-    app::DatabaseCache cache(StarDatabase::defaultCatalogPath(), true);  // nothing in memory
+    solve::DatabaseCache cache(StarDatabase::defaultCatalogPath(), true);  // nothing in memory
     auto c = cache.get(p);
     if (c.how.rfind("read from the cache", 0) != 0) state.SkipWithError(c.how.c_str());
     benchmark::DoNotOptimize(c);

@@ -8,6 +8,7 @@
 #include "common/errors.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "tests/support/test_paths.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st {
 namespace {
@@ -113,13 +114,13 @@ TEST(CameraModel, MrptIniSection) {
   mrpt::config::CConfigFileMemory cfg(
       "[CAM]\nresolution = [640 480]\ncx = 319.5\ncy = 239.5\nfx = 800\nfy = 801\n"
       "dist = [0.01 -0.02 0 0 0]\n");
-  const CameraModel cam = CameraModel::loadIni(cfg, "CAM");
+  const CameraModel cam = loadCameraIni(cfg, "CAM");
   EXPECT_EQ(cam.height(), 480);
   EXPECT_DOUBLE_EQ(cam.fy(), 801);
   EXPECT_DOUBLE_EQ(cam.distortion().k2, -0.02);
   mrpt::config::CConfigFileMemory bad("[CAM]\nresolution = [640 480]\ncx = 1\ncy = 1\nfx = 800\n");
   try {
-    CameraModel::loadIni(bad, "CAM");
+    loadCameraIni(bad, "CAM");
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'fy'"), std::string::npos) << e.what();
@@ -134,7 +135,7 @@ namespace st {
 namespace {
 TEST(CameraModel, MrptTCameraRoundTrip) {
   const CameraModel cam(1024, 768, 2950.0, 2948.0, 515.3, 380.7, Distortion{-0.1, 0.05, 1e-4, 2e-4, 0.01});
-  const CameraModel back = CameraModel::fromTCamera(cam.toTCamera());
+  const CameraModel back = cameraFromTCamera(toTCamera(cam));
   EXPECT_EQ(back.describe(), cam.describe());
 }
 }  // namespace

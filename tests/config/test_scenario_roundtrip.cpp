@@ -8,6 +8,7 @@
 
 #include "sensors/sim/scenario.hpp"
 #include "tests/support/test_paths.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st {
 namespace {
@@ -78,7 +79,7 @@ TEST(ScenarioConfig, FovAndExplicitCameraFormsAreExclusive) {
   const mrpt::config::CConfigFileMemory both(
       "[C]\nresolution = [100 100]\nfov_deg = 10\nfx = 500\n");
   try {
-    CameraModel::loadIni(both, "C", "cam.ini");
+    loadCameraIni(both, "C", "cam.ini");
     FAIL() << "fov_deg with fx must be refused";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cam.ini: [C] key 'fx': give either fov_deg"),

@@ -8,6 +8,7 @@
 
 #include "sensors/detect/centroider.hpp"
 #include "sensors/detect/star_detector.hpp"
+#include "sensors/mrpt/image_detect.hpp"
 #include "tests/detect/sim_frame.hpp"
 
 namespace st {

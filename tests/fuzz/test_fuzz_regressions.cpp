@@ -33,6 +33,7 @@ struct Entry {
 const Entry kTargets[] = {
 #define ST_FUZZ_TARGET(name) {#name, &fuzz::name},
 #include "tests/fuzz/target_list.inc"
+#include "sensors/mrpt/camera_ini.hpp"
 #undef ST_FUZZ_TARGET
 };
 
@@ -110,7 +111,7 @@ TEST(FuzzRegressions, Bsc5RecordCountBeyondTheFileIsRefusedNamingTheRecord) {
 TEST(FuzzRegressions, IniWithBadPreprocessorSyntaxIsAnInputErrorNamingTheFile) {
   const std::string bytes = readBytes(reproducer("camera", "ini_env_unclosed"));
   const std::string path = writeFile("camera.ini", bytes.substr(1));  // byte 0: the selector
-  expectRefused(path, "Expected closing", [&] { CameraModel::loadIniFile(path, "camera"); });
+  expectRefused(path, "Expected closing", [&] { loadCameraIniFile(path, "camera"); });
   expectRefused(path, "not a readable .ini file", [&] { openIniFile(path); });
   // What a user saw: exit 1 and MRPT's banner and call stack.
   const test::CliRun r = test::runCli("config '" + path + "'");

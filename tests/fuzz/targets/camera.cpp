@@ -2,6 +2,7 @@
 // XML or an MRPT .ini with a [camera] section; the rest is the file.
 #include "sensors/camera/camera_model.hpp"
 #include "tests/fuzz/targets/fuzz_io.hpp"
+#include "sensors/mrpt/camera_ini.hpp"
 
 namespace st::fuzz {
 
@@ -11,8 +12,8 @@ int camera(const std::uint8_t* data, std::size_t size) {
   const unsigned kind = in.selector % 3;
   const std::string path = writeInput(in.data, in.size, kSuffix[kind]);
   refuseOnlyWithInputError(path, [&] {
-    const CameraModel cam = kind < 2 ? CameraModel::loadYaml(path) : CameraModel::loadIniFile(path, "camera");
-    cam.iniKeys();  // what `startracker config` prints back
+    const CameraModel cam = kind < 2 ? CameraModel::loadYaml(path) : loadCameraIniFile(path, "camera");
+    cameraIniKeys(cam);  // what `startracker config` prints back
   });
   return 0;
 }

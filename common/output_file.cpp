@@ -1,0 +1,46 @@
+#include "common/output_file.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "common/errors.hpp"
+
+namespace st {
+namespace fs = std::filesystem;
+
+namespace {
+void createFolders(const fs::path& dir, const std::string& flag, const std::string& what) {
+  if (dir.empty()) return;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw InputError(flag + " " + what + ": cannot create folder " + dir.string() + ": " +
+                     (ec ? ec.message() : "a file of that name exists"));
+}
+
+void proveWritable(const fs::path& file, const std::string& flag, const std::string& shown) {
+  std::error_code ec;
+  const bool existed = fs::exists(file, ec);
+  if (existed && fs::is_directory(file, ec))
+    throw InputError(flag + " " + shown + ": is a folder, not a file");
+  std::FILE* f = std::fopen(file.c_str(), "ab");  // "a": never truncates an existing file
+  if (!f) throw InputError(flag + " " + shown + ": cannot be written");
+  std::fclose(f);
+  if (!existed) fs::remove(file, ec);
+}
+}  // namespace
+
+void prepareOutputFile(const std::string& path, const std::string& flag) {
+  if (path.empty()) throw InputError(flag + ": empty path");
+  createFolders(fs::path(path).parent_path(), flag, path);
+  proveWritable(path, flag, path);
+}
+
+void prepareOutputDir(const std::string& dir, const std::string& flag) {
+  if (dir.empty()) throw InputError(flag + ": empty path");
+  createFolders(dir, flag, dir);
+  proveWritable(fs::path(dir) / ".startracker-write-test", flag, dir);
+}
+
+}  // namespace st

@@ -1,0 +1,35 @@
+/// @file frame_input.hpp
+/// What `solve` identifies: the centroids of a frame, from an image (detected here) or from
+/// a star list (given; detection skipped), with the image size and the epoch when known.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sensors/detect/centroid.hpp"
+
+namespace st::solve {
+
+struct SolveOptions;
+
+struct FrameInput {
+  cv::Mat image;  ///< empty for a star list
+  bool star_list = false;
+  int width = 0, height = 0;
+  std::vector<Centroid> stars;  ///< brightest first
+  std::string detection_reason;  ///< why detection found nothing usable ("" = fine)
+  std::optional<double> epoch_jyear;
+  std::string epoch_source;
+  double load_ms = 0, detect_ms = 0;
+};
+
+/// Loads o.input; throws InputError naming the file (or --width/--height for a star list
+/// without its image size).
+FrameInput loadFrameInput(const SolveOptions& o);
+/// Detects the stars of an 8- or 16-bit grey image in memory (o.dark_frame subtracted; `name`
+/// in messages). The result's image is a header on `image`, not a copy.
+FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, const std::string& name);
+
+}  // namespace st::solve

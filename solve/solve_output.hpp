@@ -1,0 +1,76 @@
+/// @file solve_output.hpp
+/// What `solve` prints: the text report, or with --json exactly one JSON object on stdout
+/// (built with nlohmann::ordered_json, so any file name or message is escaped). JSON schema:
+///  - solved (exit 0): {"solved": true, "image", "input": "image"|"star list", "parity":
+///    "normal"|"flipped", "ra_deg", "dec_deg", "roll_deg", "q_ib": [w,x,y,z], "covariance"
+///    (3x3, rad^2, camera frame), "sigma_cross_boresight_arcsec", "sigma_roll_arcsec",
+///    "hfov_deg", "algorithm", "solver", "stars_detected", "stars_matched",
+///    "rms_residual_arcsec", "rms_residual_px", "false_match_probability",
+///    "hypotheses_tried", "fovs_tried", "epoch_jyear", "epoch_source", "database",
+///    "database_epoch_jyear", "catalog" (the catalog's name), "catalog_id" ("HIP", "HR"),
+///    "frame": "apparent" | "astrometric" (celestial_frame.hpp), "aberration_velocity_km_s"
+///    [x, y, z] (ICRS axes; the observer's velocity the apparent frame is for, zero for
+///    astrometric),
+///    "photometry": {"fitted", "exposure_s" (1: unknown to solve, the zero point holds it),
+///    "zero_point", "zero_point_se", "colour_term", "colour_term_se" (null when not fitted),
+///    "off_axis_exponent", "off_axis_exponent_fitted", "off_axis_exponent_se", "scatter_mag",
+///    "robust_sigma_mag", "stars_used", "stars_clipped"} (or {"fitted": false, "reason"};
+///    sensors/identify/photometry.hpp),
+///    "stars": [{"id", "name" (e.g. "HR 5340"), "x", "y", "mag" (catalog V), "bv" (B-V or
+///    null), "mag_inst", "mag_fitted", "mag_residual" (V - fitted), "photometry_used",
+///    "residual_arcsec", "residual_px"}] (x, y in the input's pixels, also for a flipped
+///    image), "timing_ms":
+///    {"load", "detect", "database", "identify", "pattern", "verify", "total"}};
+///  - not solved (exit 1): {"solved": false, "status" (IdentifyStatus or "error"),
+///    "reason", "image", "stars_detected", "parities_tried", "cpu_limit_reached",
+///    "exit_code": 1};
+///  - an error ended the run: {"solved": false, "status": "error", "error": message,
+///    "exit_code": 2 for bad input (file, flag, value), 1 otherwise}; in a batch also "image".
+/// A batch prints one object per frame, one per line (JSON Lines), in input order.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "solve/celestial_frame.hpp"
+#include "solve/frame_input.hpp"
+#include "solve/solve_epoch.hpp"
+#include "solve/solve_options.hpp"
+#include "catalog/star_database.hpp"
+#include "sensors/identify/plate_solve.hpp"
+
+namespace st::solve {
+
+struct SolveTimings {
+  double load = 0, detect = 0, database = 0, identify = 0, total = 0;  ///< [ms]
+};
+
+/// Everything one run of `solve` reports.
+struct SolveReport {
+  const SolveOptions& o;
+  const FrameInput& in;
+  const StarDatabase& db;
+  std::string db_source;  ///< the --database path, or how the in-memory one was built
+  SolveEpoch epoch;
+  PlateSolveResult ps;
+  std::string failure;  ///< empty when solved
+  bool focal_fitted = true;
+  SolveTimings ms;
+  CelestialFrame frame;  ///< the frame q_ib and RA/Dec are in
+};
+
+/// "HIP" for Hipparcos, "HR" for the Bright Star Catalogue, "TYC" for Tycho, else "ID":
+/// from the catalog name a database records (BuildReport::catalog_name).
+std::string catalogIdLabel(const std::string& catalog_name);
+
+void printSolutionText(const SolveReport& r);
+nlohmann::ordered_json solutionJson(const SolveReport& r);
+nlohmann::ordered_json failureJson(const SolveReport& r);
+nlohmann::ordered_json errorJson(const std::string& message, int exit_code);
+/// One line on stdout.
+void printJson(const nlohmann::ordered_json& j);
+
+/// The annotated picture of a solved frame (the image, or a black frame for a star list).
+void writeSolveAnnotation(const SolveReport& r, const std::string& path);
+
+}  // namespace st::solve
