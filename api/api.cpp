@@ -1,10 +1,13 @@
 // The façade's small pieces: version, data folder, Database, the tracker and its JSON.
 #include <filesystem>
 
-#include "api/shared_cache.hpp"
+#include "catalog/database_cache.hpp"
 #include "catalog/database_recipe.hpp"
 #include "solve/solve_epoch.hpp"
 #include "common/check.hpp"
+#include "sensors/tracking/frozen_frame.hpp"
+#include "sensors/tracking/star_tracker.hpp"
+#include "sensors/tracking/tracker_options.hpp"
 #include "include/startracker/startracker.hpp"
 
 namespace st::api {
@@ -24,14 +27,6 @@ Database Database::load(const std::string& path) {
   return Database(std::make_shared<const StarDatabase>(StarDatabase::load(path)), path, true);
 }
 
-std::shared_ptr<solve::DatabaseCache> sharedDatabaseCache(bool no_cache) {
-  static const auto disk =
-      std::make_shared<solve::DatabaseCache>(StarDatabase::defaultCatalogPath(), true);
-  static const auto memory =
-      std::make_shared<solve::DatabaseCache>(StarDatabase::defaultCatalogPath(), false);
-  return no_cache ? memory : disk;
-}
-
 Database Database::forCamera(const CameraModel& camera, double mag_limit, double epoch_jyear) {
   const double epoch = solve::chooseEpoch(epoch_jyear, std::nullopt, "", nullptr).jyear;
   // The recipe every command uses (catalog/database_recipe.hpp), in the apparent frame.
@@ -41,8 +36,9 @@ Database Database::forCamera(const CameraModel& camera, double mag_limit, double
   r.mag_limit = mag_limit;
   r.epoch_jyear = epoch;
   r.aberration = true;
-  solve::CachedDatabase c = sharedDatabaseCache()->get(databaseParams(r));
-  return Database(c.db, c.how + " from " + StarDatabase::defaultCatalogPath(), false);
+  std::string how;
+  std::shared_ptr<const StarDatabase> db = cameraDatabase(r, "", true, &how);
+  return Database(std::move(db), how + " from " + StarDatabase::defaultCatalogPath(), false);
 }
 
 nlohmann::ordered_json frameResultJson(const FrameResult& r) {
@@ -79,29 +75,55 @@ nlohmann::ordered_json frameResultJson(const FrameResult& r) {
   return j;
 }
 
-Tracker::Tracker(const CameraModel& camera, TrackerOptions options, std::optional<Database> db)
-    : db_(db ? std::move(*db) : Database::forCamera(camera)) {
-  options.validate();
-  tracker_ = std::make_unique<StarTracker>(db_.stars(), camera, std::move(options));
+struct Tracker::Impl {
+  Database db;
+  std::unique_ptr<StarTracker> tracker;
+  FrozenFrameCheck frozen;
+};
+
+namespace {
+TrackerOptions optionsOf(const TrackerSettings& s) {
+  TrackerOptions o;
+  if (!std::isnan(s.min_sigma_px)) o.min_sigma_px = s.min_sigma_px;
+  if (!std::isnan(s.tracking_min_sigma_px)) o.tracking_min_sigma_px = s.tracking_min_sigma_px;
+  o.R_body_cam = s.R_body_cam;
+  return o;
+}
+}  // namespace
+
+Tracker::Tracker(const CameraModel& camera, const TrackerSettings& settings,
+                 std::optional<Database> db)
+    : Tracker(camera, optionsOf(settings), std::move(db)) {}
+
+Tracker::Tracker(const CameraModel& camera, const TrackerOptions& options,
+                 std::optional<Database> db)
+    : impl_(new Impl{db ? std::move(*db) : Database::forCamera(camera), nullptr, {}}) {
+  TrackerOptions o = options;
+  o.validate();
+  impl_->tracker = std::make_unique<StarTracker>(impl_->db.stars(), camera, std::move(o));
 }
 
 Tracker::~Tracker() = default;
+Tracker::Tracker(Tracker&&) noexcept = default;
+Tracker& Tracker::operator=(Tracker&&) noexcept = default;
+
+StarTracker& Tracker::tracker() { return *impl_->tracker; }
+const Database& Tracker::database() const { return impl_->db; }
 
 FrameResult Tracker::process(const cv::Mat& image, double t_s, const FrameInputs& in) {
+  StarTracker& t = *impl_->tracker;
   if (image.empty() || (image.type() != CV_8UC1 && image.type() != CV_16UC1))
     throw InputError("image: not an 8- or 16-bit single-channel grey image");
-  if (image.cols != tracker_->camera().width() || image.rows != tracker_->camera().height())
+  if (image.cols != t.camera().width() || image.rows != t.camera().height())
     throw InputError("image: " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                     " px, the tracker's camera is " + std::to_string(tracker_->camera().width()) +
-                     "x" + std::to_string(tracker_->camera().height()));
-  if (const std::optional<double> seen = frozen_.repeats(image, t_s))
-    return frozenFrameResult(*seen);  // a repeated readout (frozen_frame.hpp)
-  return tracker_->process(image, t_s, in);
+                     " px, the tracker's camera is " + std::to_string(t.camera().width()) + "x" +
+                     std::to_string(t.camera().height()));
+  return processFrame(t, impl_->frozen, image, t_s, in);  // frozen_frame.hpp
 }
 
 void Tracker::reset() {
-  tracker_->reset();
-  frozen_.reset();
+  impl_->tracker->reset();
+  impl_->frozen.reset();
 }
 
 }  // namespace st::api

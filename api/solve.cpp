@@ -4,7 +4,6 @@
 #include <memory>
 #include <mutex>
 
-#include "api/shared_cache.hpp"
 #include "imageio/image_file.hpp"
 #include "include/startracker/startracker.hpp"
 #include "solve/plate_solver.hpp"
@@ -48,7 +47,7 @@ solve::SolveOptions stageOptions(const SolveOptions& o) {
 
 solve::PlateSolver solverFor(const SolveOptions& o, const Database* db) {
   if (db) return solve::PlateSolver(stageOptions(o), db->shared(), db->source(), db->fromFile());
-  return solve::PlateSolver(stageOptions(o), sharedDatabaseCache(o.no_cache));
+  return solve::PlateSolver(stageOptions(o));
 }
 
 SolveResult resultOf(const solve::FrameOutcome& f) {

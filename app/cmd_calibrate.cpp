@@ -14,6 +14,7 @@
 #include "app/command.hpp"
 #include "imageio/image_file.hpp"
 #include "common/output_file.hpp"
+#include "catalog/database_cache.hpp"
 #include "catalog/database_recipe.hpp"
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
@@ -66,8 +67,8 @@ std::vector<std::string> imageFiles(const std::vector<std::string>& inputs) {
 }
 
 /// The star database: --database, or built in memory for the widest field searched.
-StarDatabase database(const CalibrateOptions& o, int w, int h, double epoch) {
-  if (!o.database.empty()) return StarDatabase::load(o.database);
+std::shared_ptr<const StarDatabase> database(const CalibrateOptions& o, int w, int h, double epoch) {
+  if (!o.database.empty()) return std::make_shared<const StarDatabase>(StarDatabase::load(o.database));
   CameraDatabaseRecipe r;
   const CameraModel widest = o.camera.given() ? o.camera.resolve(w, h)
                                               : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[1]));
@@ -76,7 +77,7 @@ StarDatabase database(const CalibrateOptions& o, int w, int h, double epoch) {
   r.pixel_scale_rad = finest.pixelScale();
   r.mag_limit = o.mag_limit;
   r.epoch_jyear = epoch;
-  return StarDatabase::build(loadCatalog(StarDatabase::defaultCatalogPath()), databaseParams(r));
+  return cameraDatabase(r);
 }
 
 struct SolvedFrame {
@@ -167,7 +168,8 @@ int runCalibrate(const CalibrateOptions& o) {
   const double epoch = o.epoch > 0 ? o.epoch : first.epoch_jyear.value_or(2025.0);
   if (o.epoch <= 0)
     log::info("epoch %.2f (%s)", epoch, first.epoch_jyear ? first.epoch_source.c_str() : "no date in the first frame: 2025.0; give --epoch");
-  const StarDatabase db = database(o, first.image.cols, first.image.rows, epoch);
+  const std::shared_ptr<const StarDatabase> db_held = database(o, first.image.cols, first.image.rows, epoch);
+  const StarDatabase& db = *db_held;
   auto identifier = StarIdentifier::create(StarIdentifier::defaultName());
   std::vector<SolvedFrame> solved;
   std::optional<CameraModel> known;

@@ -248,7 +248,8 @@ int runReplay(const ReplayOpts& o) {
   }
   const double epoch = julianYear(*t_first);
   const auto t_db = std::chrono::steady_clock::now();
-  const StarDatabase db = makeDatabase(cfg.database, *camera, epoch);
+  const std::shared_ptr<const StarDatabase> db_held = makeDatabase(cfg.database, *camera, epoch);
+  const StarDatabase& db = *db_held;
   const double db_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_db).count();
 

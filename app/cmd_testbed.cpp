@@ -161,7 +161,7 @@ struct SolveArgs {
   std::vector<double> prediction = {0, 0, 0};
   int iterations = 3;
   double tolerance_arcsec = 250;
-  std::string solver = "quest";
+  std::string solver = WahbaSolver::defaultName();
   bool json = false;
 };
 

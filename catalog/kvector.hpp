@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/huge_page_allocator.hpp"
+
 namespace st {
 
 class KVector {
@@ -30,10 +32,11 @@ class KVector {
   std::size_t size() const { return k_.size(); }
   double slope() const { return m_; }
   double intercept() const { return q_; }
-  const std::vector<uint32_t>& table() const { return k_; }
+  const std::vector<uint32_t, HugePageAllocator<uint32_t>>& table() const { return k_; }
 
  private:
-  std::vector<uint32_t> k_;  ///< K(j): number of values <= q + m j
+  /// K(j): number of values <= q + m j (the pairs' table is MBs: huge pages, see allocator)
+  std::vector<uint32_t, HugePageAllocator<uint32_t>> k_;
   double m_ = 1, q_ = 0;
   std::size_t n_ = 0;
 };

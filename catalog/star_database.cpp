@@ -1,6 +1,8 @@
 // StarDatabase: building the search structures and querying them.
 #include "catalog/star_database.hpp"
 
+#include <unordered_map>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -184,7 +186,13 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
                      cat.source_path + " (its brightest is V " + fmtMag(brightest) + ")");
   }
   db.stars_.reserve(sel.size());
-  for (const SelectedStar& s : sel) db.stars_.push_back({s.id, s.u, float(s.mag)});
+  std::unordered_map<uint32_t, double> bv_of;  // a merged group's colour: its id's entry
+  for (const CatalogEntry& e : cat.entries) bv_of.emplace(e.id, e.bv);
+  for (const SelectedStar& s : sel) {
+    const auto it = bv_of.find(s.id);
+    db.stars_.push_back({s.id, s.u, float(s.mag),
+                         it == bv_of.end() ? std::numeric_limits<float>::quiet_NaN() : float(it->second)});
+  }
   if (params.max_stars_per_region > 0) {
     db.buildIndexes();  // the density reduction's cone queries
     std::vector<Star> kept = uniformDensityStars(db, params, db.screen_, progress);

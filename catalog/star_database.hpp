@@ -5,6 +5,7 @@
 /// star-neighbourhood table (seed 002 Table I). Built once by `startracker catalog build`,
 /// saved as one versioned binary file and loaded in milliseconds.
 #pragma once
+#include <limits>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -15,6 +16,7 @@
 #include "catalog/kvector.hpp"
 #include "catalog/star_catalog.hpp"
 #include "common/attitude.hpp"
+#include "common/huge_page_allocator.hpp"
 
 namespace st {
 
@@ -22,6 +24,9 @@ struct Star {
   uint32_t id;  ///< catalog id (HIP or HR); for a merged double star the brightest member's
   Vec3 u_i;     ///< unit vector, ICRS at the database epoch
   float mag;    ///< V magnitude (combined for a merged double star)
+  /// B-V colour of the catalog entry `id` (NaN when unknown, or in a format-3 file): kept so
+  /// that photometry's colour term needs no catalog read.
+  float bv = std::numeric_limits<float>::quiet_NaN();
 };
 
 /// A star the database does not identify but whose light can fall on one it does: fainter
@@ -84,6 +89,9 @@ struct BuildReport {
   double build_seconds = 0;
 };
 
+/// The pairs, sorted by angle: the database's largest array (huge_page_allocator.hpp).
+using PairList = std::vector<StarPair, HugePageAllocator<StarPair>>;
+
 class StarDatabase {
  public:
   /// A limit beyond the catalog's depth is capped to it (warned once, effectiveMagLimit()); a
@@ -104,7 +112,7 @@ class StarDatabase {
   const DatabaseParams& params() const { return params_; }
   const BuildReport& report() const { return report_; }
   /// All pairs sorted by theta (ascending).
-  const std::vector<StarPair>& pairs() const { return pairs_; }
+  const PairList& pairs() const { return pairs_; }
   const KVector& pairKVector() const { return pair_kv_; }
 
   /// Pairs with theta in [theta_lo, theta_hi]: k-vector, O(1 + matches), exact w.r.t. the
@@ -142,13 +150,13 @@ class StarDatabase {
   DatabaseParams params_{};
   BuildReport report_;
   std::vector<Star> stars_;
-  std::vector<StarPair> pairs_;
+  PairList pairs_;
   KVector pair_kv_;
   ConeIndex cone_;         ///< over stars_ (seed 002)
   std::vector<ScreenStar> screen_;
   ConeIndex screen_cone_;  ///< over screen_
   std::vector<uint32_t> nbr_start_{0};
-  std::vector<uint32_t> nbr_;
+  std::vector<uint32_t, HugePageAllocator<uint32_t>> nbr_;
 };
 
 }  // namespace st

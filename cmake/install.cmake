@@ -5,8 +5,8 @@
 #                                             names, so a bare `-p libstartracker_mrpt.so`
 #                                             finds them in the loader's path (/usr/lib/...)
 #   <libdir>/libst_*.a                       the static libraries of the public API
-#   include/startracker/startracker.hpp      the public API; the stage headers it includes
-#                                             keep their paths below include/startracker/
+#   include/startracker/*.hpp                the public API: the facade and its seam types
+#                                             (no MRPT, CLI11 or stage header)
 #   share/startracker/                       the catalog (StarDatabase::defaultCatalogPath
 #                                             finds it from <program>/../share/startracker)
 #   <libdir>/cmake/startracker/, <libdir>/pkgconfig/startracker.pc
@@ -18,8 +18,8 @@ set(ST_DATA_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/startracker)
 set(ST_EXPORTED_LIBS st_api st_solve st_imageio st_fusion st_sensors_tracking st_sensors_identify
     st_sensors_detect st_sensors_attitude st_sensors_camera st_catalog st_common)
 
-# `startracker` is the launcher (--version at once); every command runs startracker-cli
-# from the same folder.
+# `startracker` is the launcher; it runs startracker-solve (solve) or startracker-cli (every
+# other command) from the same folder.
 install(TARGETS startracker startracker-cli startracker-solve RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
 install(TARGETS startracker_mrpt startracker_sim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         COMPONENT runtime)
@@ -29,13 +29,10 @@ install(FILES ${ST_ROOT}/catalog/data/hip_main_v6.6.dat.gz ${ST_ROOT}/catalog/da
 
 install(TARGETS ${ST_EXPORTED_LIBS} st_warnings EXPORT startrackerTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
-install(FILES ${ST_ROOT}/include/startracker/startracker.hpp
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/startracker COMPONENT dev)
-install(DIRECTORY ${ST_ROOT}/common ${ST_ROOT}/config ${ST_ROOT}/catalog ${ST_ROOT}/sensors
-                  ${ST_ROOT}/fusion
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/startracker COMPONENT dev
-        FILES_MATCHING PATTERN "*.hpp"
-        PATTERN "data" EXCLUDE PATTERN "sim" EXCLUDE PATTERN "plugin" EXCLUDE)
+# Only the public headers: the facade and the seam types it names (include/startracker/).
+# The stage headers are the library's own and are not installed.
+file(GLOB _st_public_headers ${ST_ROOT}/include/startracker/*.hpp)
+install(FILES ${_st_public_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/startracker COMPONENT dev)
 install(EXPORT startrackerTargets NAMESPACE startracker:: DESTINATION ${ST_CMAKE_INSTALL_DIR}
         COMPONENT dev)
 configure_package_config_file(${ST_ROOT}/cmake/startrackerConfig.cmake.in

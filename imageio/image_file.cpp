@@ -1,8 +1,9 @@
 #include "imageio/image_file.hpp"
 
+#include "imageio/fits.hpp"
+
 #include "imageio/image_codecs.hpp"
 
-#include <fitsio.h>
 
 #include <algorithm>
 #include <cctype>
@@ -323,6 +324,20 @@ LoadedImage loadImage(const std::string& path) {
   out.epoch_jyear = parseIsoEpoch(name);
   if (out.epoch_jyear) out.epoch_source = "file name";
   return out;
+}
+
+std::optional<ImageProbe> probeImage(const std::string& path) {
+  if (isFitsPath(path)) return std::nullopt;  // its epoch may be in DATE-OBS
+  const auto wh = headerSize(path);
+  if (!wh || wh->first < kMinImageSide || wh->second < kMinImageSide ||
+      wh->first > kMaxImagePixels / wh->second)
+    return std::nullopt;  // loadImage says why
+  ImageProbe p;
+  p.width = int(wh->first);
+  p.height = int(wh->second);
+  p.epoch_jyear = parseIsoEpoch(path.substr(path.find_last_of('/') + 1));
+  if (p.epoch_jyear) p.epoch_source = "file name";
+  return p;
 }
 
 void writeImage(const std::string& path, const cv::Mat& image) {

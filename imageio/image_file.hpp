@@ -45,6 +45,16 @@ struct LoadedImage {
 /// Refuses a width x height outside the limits above (InputError naming `path`).
 void requireImageSize(const std::string& path, std::int64_t w, std::int64_t h);
 
+/// What an image file says before it is decoded: its size from a PNG, JPEG, TIFF or PNM
+/// header and its epoch from the file name (as loadImage gives them). nullopt for FITS (its
+/// epoch may be DATE-OBS), other formats, and headers loadImage would refuse.
+struct ImageProbe {
+  int width = 0, height = 0;
+  std::optional<double> epoch_jyear;
+  std::string epoch_source;
+};
+std::optional<ImageProbe> probeImage(const std::string& path);
+
 /// True for a file name ending in .png, any case.
 bool isPngPath(const std::string& path);
 

@@ -266,21 +266,12 @@ FrameResult Navigator::processImage(Head& head, mrpt::obs::CObservationImage& io
     return skipped("the image cannot be loaded (" + std::string(e.what()).substr(0, 200) + ")");
   }
   if (image.empty()) return skipped("empty image");
-  if (image.channels() == 3) {
-    cv::Mat grey;
-    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-    image = grey;
-  }
-  if (const std::optional<double> seen = head.frozen.repeats(image, t)) {
-    ++frozen_frames_;
-    if (io.image.isExternallyStored()) io.image.unload();
-    const FrameResult r = frozenFrameResult(*seen);
-    warn(head.label + " observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
-    out_obs = observationOf(r, io.timestamp, head);
-    return r;
-  }
-  FrameResult r = head.tracker->process(image, t, in);
+  FrameResult r = st::processFrame(*head.tracker, head.frozen, image, t, in);
   if (io.image.isExternallyStored()) io.image.unload();
+  if (r.failure == FrameFailure::kFrozenImage) {
+    ++frozen_frames_;
+    warn(head.label + " observation at " + formatLoopTime(t) + ": " + r.detail + ": frame skipped");
+  }
   out_obs = observationOf(r, io.timestamp, head);
   return r;
 }

@@ -1,5 +1,7 @@
 #include "navigation/tracker_config.hpp"
 
+#include "catalog/database_cache.hpp"
+
 #include <mrpt/config/CConfigFile.h>
 
 #include <filesystem>
@@ -101,18 +103,17 @@ TrackerConfig TrackerConfig::fromConfig(const mrpt::config::CConfigFileBase& cfg
   return c;
 }
 
-StarDatabase makeDatabase(const DatabaseSource& src, const CameraModel& camera,
-                          double data_epoch_jyear) {
-  if (!src.path.empty()) return StarDatabase::load(src.path);
-  const std::string cat_path =
-      src.catalog.empty() ? StarDatabase::defaultCatalogPath() : src.catalog;
+std::shared_ptr<const StarDatabase> makeDatabase(const DatabaseSource& src,
+                                                 const CameraModel& camera,
+                                                 double data_epoch_jyear) {
+  if (!src.path.empty()) return std::make_shared<const StarDatabase>(StarDatabase::load(src.path));
   CameraDatabaseRecipe r;
   r.diagonal_fov_rad = 2.0 * camera.halfDiagonalFov();
   r.pixel_scale_rad = camera.pixelScale();
   r.mag_limit = src.mag_limit;
   r.epoch_jyear = src.epoch_jyear > 0 ? src.epoch_jyear : data_epoch_jyear;
   r.aberration = src.aberration;
-  return StarDatabase::build(loadCatalog(cat_path), databaseParams(r));
+  return cameraDatabase(r, src.catalog);
 }
 
 }  // namespace st

@@ -69,7 +69,7 @@ bool isTrackerIni(const IniReader& r);
 
 /// Builds (or loads) the database of `src` for a camera; `data_epoch_jyear` is used when the
 /// source gives none. Throws InputError naming the file for a bad database/catalog.
-StarDatabase makeDatabase(const DatabaseSource& src, const CameraModel& camera,
+std::shared_ptr<const StarDatabase> makeDatabase(const DatabaseSource& src, const CameraModel& camera,
                           double data_epoch_jyear);
 
 }  // namespace st

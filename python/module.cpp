@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "catalog/star_database.hpp"
 #include "imageio/image_file.hpp"
 #include "imageio/opencv/opencv_formats.hpp"
 #include "include/startracker/startracker.hpp"
@@ -211,7 +212,7 @@ PYBIND11_MODULE(_startracker, m) {
                        double mag_limit, std::optional<double> epoch,
                        std::optional<double> min_sigma_px, std::optional<double> tracking_min_sigma_px) {
              const st::CameraModel cam = trackerCamera(width, height, fov_deg, camera);
-             st::TrackerOptions opts;
+             st::api::TrackerSettings opts;
              if (min_sigma_px) opts.min_sigma_px = *min_sigma_px;
              if (tracking_min_sigma_px) opts.tracking_min_sigma_px = *tracking_min_sigma_px;
              py::gil_scoped_release nogil;
@@ -224,7 +225,7 @@ PYBIND11_MODULE(_startracker, m) {
            py::arg("tracking_min_sigma_px") = py::none(),
            "A per-frame tracker for a camera (fov_deg: horizontal FOV, or camera=OpenCV YAML). "
            "min_sigma_px / tracking_min_sigma_px floor the centroid sigma of lost-in-space / "
-           "tracking (TrackerOptions; an uncalibrated lens needs ~0.5 px, as solve uses)")
+           "tracking (TrackerSettings; an uncalibrated lens needs ~0.5 px, as solve uses)")
       .def(
           "process",
           [](st::api::Tracker& t, py::array image, double time_s,

@@ -13,6 +13,7 @@ PKGS=(
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libcfitsio-dev zlib1g-dev
   libjpeg-dev   # jpeglib.h: libjpeg's fatal errors as exceptions (sensors/mrpt/jpeg_errors.hpp)
+  libpng-dev libtiff-dev   # imageio/: sky images decoded without OpenCV's imgcodecs (start-up)
   gnuplot-nox python3
   pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-dev
   xvfb xauth

@@ -2,6 +2,7 @@
 // identification (any registered algorithm, over a FOV range when the camera is unknown,
 // both parities, within a position hint and a time limit) -> attitude with covariance.
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -21,17 +22,13 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/log.hpp"
+#include "imageio/image_file.hpp"
 #include "sensors/detect/dark_frame.hpp"
+#include "solve/star_list.hpp"
 #include "sensors/attitude/wahba.hpp"
 #include "sensors/identify/fov_search.hpp"
 
 namespace st::solve {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 /// The cameras to try: one (--camera / --fov-deg) or a grid of horizontal FOVs.
 struct CameraSearch {
@@ -41,6 +38,21 @@ struct CameraSearch {
   double scale_tol = 0.02;
   double max_diag = 0;  ///< [rad] the widest image diagonal of the search
 };
+
+struct DatabaseChoice {
+  std::shared_ptr<const StarDatabase> db;
+  std::string source;
+  SolveEpoch epoch;
+  double ms = 0;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
 
 CameraSearch cameraSearch(const SolveOptions& o, int w, int h) {
   requireSolvableFov(o, w, h);
@@ -72,20 +84,11 @@ PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const Sta
                        o.parityChoice(), t_start);
 }
 
-struct DatabaseChoice {
-  std::shared_ptr<const StarDatabase> db;
-  std::string source;
-  SolveEpoch epoch;
-  double ms = 0;
-};
 
 }  // namespace
 
-PlateSolver::PlateSolver(SolveOptions options, std::shared_ptr<DatabaseCache> cache)
-    : o_(std::move(options)),
-      cache_(cache ? std::move(cache)
-                   : std::make_shared<DatabaseCache>(StarDatabase::defaultCatalogPath(), !o_.no_cache)),
-      frame_(requestedFrame(o_)) {
+PlateSolver::PlateSolver(SolveOptions options)
+    : o_(std::move(options)), frame_(requestedFrame(o_)) {
   o_.positionHint();  // a bad hint fails before any work
   if (!o_.dark.empty() && o_.dark_frame.empty()) o_.dark_frame = readDarkFrame(o_.dark);
   if (o_.database.empty()) return;
@@ -98,7 +101,7 @@ PlateSolver::PlateSolver(SolveOptions options, std::shared_ptr<DatabaseCache> ca
 
 PlateSolver::PlateSolver(SolveOptions options, std::shared_ptr<const StarDatabase> db,
                          std::string source, bool from_file)
-    : PlateSolver(std::move(options), std::shared_ptr<DatabaseCache>{}) {
+    : PlateSolver(std::move(options)) {
   given_db_ = std::move(db);
   given_source_ = std::move(source);
   given_from_file_ = from_file;
@@ -108,7 +111,25 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFile(const std::string& path) co
   const auto t_start = Clock::now();
   SolveOptions o = o_;
   o.input = path;
-  return solveInput(loadFrameInput(o), path, t_start);
+  // An image whose header gives its size (PNG, JPEG, TIFF, PNM) and whose epoch is known
+  // before decoding (--epoch, or the file name) has its database chosen from those while
+  // another thread decodes and detects: a plate solve per process loads its database from
+  // the disk cache every time, and two cores do both at once.
+  const std::optional<imageio::ImageProbe> probe =
+      isStarList(path) || !o.dark_frame.empty() ? std::nullopt : imageio::probeImage(path);
+  if (!probe) return solveInput(loadFrameInput(o), path, t_start);
+  auto decoded = std::async(std::launch::async, [&o] { return loadFrameInput(o); });
+  std::optional<DatabaseChoice> early;
+  try {
+    const CameraSearch cs = cameraSearch(o, probe->width, probe->height);
+    early = database(o, cs, probe->width, probe->height, probe->epoch_jyear, probe->epoch_source);
+  } catch (...) {
+    early.reset();  // said again, in order, by the sequential path below
+  }
+  FrameInput in = decoded.get();
+  if (in.width != probe->width || in.height != probe->height || in.epoch_jyear != probe->epoch_jyear)
+    early.reset();  // the header said otherwise than the pixels: choose again
+  return solveInput(std::move(in), path, t_start, early ? &*early : nullptr);
 }
 
 std::unique_ptr<FrameOutcome> PlateSolver::solveImage(const cv::Mat& image,
@@ -140,21 +161,15 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFileCaught(const std::string& pa
 
 /// The --database file (refused when its epoch is too far from the observation's), or the
 /// database of the camera search at the observation epoch (built once, cached on disk).
-std::unique_ptr<FrameOutcome> PlateSolver::solveInput(FrameInput in, const std::string& name,
-                                                      Clock::time_point t_start) const {
-  auto f = std::make_unique<FrameOutcome>();
-  f->o = o_;
-  f->o.input = name;
-  f->in = std::move(in);
-  const SolveOptions& o = f->o;
-  const FrameInput& fin = f->in;
-  const CameraSearch cs = cameraSearch(o, fin.width, fin.height);
+DatabaseChoice PlateSolver::database(const SolveOptions& o, const CameraSearch& cs, int width,
+                                     int height, const std::optional<double>& epoch_jyear,
+                                     const std::string& epoch_source) const {
   DatabaseChoice dbc;
   if (given_db_) {
     dbc.db = given_db_;
     dbc.source = given_source_;
     dbc.ms = given_ms_;
-    dbc.epoch = chooseEpoch(o.epoch, fin.epoch_jyear, fin.epoch_source,
+    dbc.epoch = chooseEpoch(o.epoch, epoch_jyear, epoch_source,
                             given_from_file_ ? dbc.db.get() : nullptr);
     if (given_from_file_) requireDatabaseEpoch(*dbc.db, given_source_, dbc.epoch);
     if (dbc.db->params().max_pair_angle < cs.max_diag * 0.999 && cs.fixed)
@@ -164,25 +179,40 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveInput(FrameInput in, const std::
           given_source_.c_str(), rad2deg(dbc.db->params().max_pair_angle), rad2deg(cs.max_diag));
   } else {
     const auto t0 = Clock::now();
-    dbc.epoch = chooseEpoch(o.epoch, fin.epoch_jyear, fin.epoch_source, nullptr);
+    dbc.epoch = chooseEpoch(o.epoch, epoch_jyear, epoch_source, nullptr);
     CameraDatabaseRecipe r;
     r.diagonal_fov_rad = cs.max_diag;
     // The finest pixel scale in the search: doubles unresolved at every FOV tried.
     r.pixel_scale_rad = cs.fixed ? cs.fixed->pixelScale()
-                                 : CameraModel::fromFov(fin.width, fin.height, cs.grid.front()).pixelScale();
+                                 : CameraModel::fromFov(width, height, cs.grid.front()).pixelScale();
     r.mag_limit = o.mag_limit;
     r.epoch_jyear = databaseEpoch(dbc.epoch.jyear);
     // Built in the requested frame's annual part; an observer velocity is applied afterwards.
     r.aberration = frame_.annual;
-    CachedDatabase c = cache_->get(databaseParams(r));
-    dbc.db = c.db;
+    std::string how;
+    dbc.db = cameraDatabase(r, "", !o.no_cache, &how);
     char b[400];
-    std::snprintf(b, sizeof b, "%s from %s (V <= %.1f, epoch from %s)", c.how.c_str(),
+    std::snprintf(b, sizeof b, "%s from %s (V <= %.1f, epoch from %s)", how.c_str(),
                   StarDatabase::defaultCatalogPath().c_str(), o.mag_limit, dbc.epoch.source.c_str());
     // e.g. "built in memory from catalog/data/hip_main_v6.6.dat.gz (V <= 6.6, epoch from today)"
     dbc.source = b;
     dbc.ms = msSince(t0);
   }
+  return dbc;
+}
+
+std::unique_ptr<FrameOutcome> PlateSolver::solveInput(FrameInput in, const std::string& name,
+                                                      Clock::time_point t_start,
+                                                      const DatabaseChoice* early) const {
+  auto f = std::make_unique<FrameOutcome>();
+  f->o = o_;
+  f->o.input = name;
+  f->in = std::move(in);
+  const SolveOptions& o = f->o;
+  const FrameInput& fin = f->in;
+  const CameraSearch cs = cameraSearch(o, fin.width, fin.height);
+  const DatabaseChoice dbc =
+      early ? *early : database(o, cs, fin.width, fin.height, fin.epoch_jyear, fin.epoch_source);
   f->db = dbc.db;
   const StarDatabase& db = *dbc.db;
   f->rep.reset(new SolveReport{o, fin, db, dbc.source, dbc.epoch, {}, {}, cs.fit_focal, {}, frame_});

@@ -19,7 +19,7 @@
 #include <opencv2/core.hpp>
 
 #include "solve/celestial_frame.hpp"
-#include "solve/database_cache.hpp"
+#include "catalog/database_cache.hpp"
 #include "solve/frame_input.hpp"
 #include "solve/solve_options.hpp"
 #include "solve/solve_output.hpp"
@@ -43,11 +43,15 @@ struct FrameOutcome {
 /// The one JSON object of a frame: solutionJson, failureJson, or errorJson with "image".
 nlohmann::ordered_json outcomeJson(const FrameOutcome& f);
 
+struct CameraSearch;    // plate_solver.cpp: the cameras a frame tries
+struct DatabaseChoice;  // plate_solver.cpp: its database, where from, at which epoch
+
 class PlateSolver {
  public:
-  /// Throws InputError for a bad option, an unreadable --database or --dark. `cache` lets
-  /// solvers of one process share their in-memory databases (null: a cache of its own).
-  explicit PlateSolver(SolveOptions options, std::shared_ptr<DatabaseCache> cache = nullptr);
+  /// Throws InputError for a bad option, an unreadable --database or --dark. Databases built
+  /// for a camera are the process's (cameraDatabase, catalog/database_cache.hpp): solvers of
+  /// one process share them.
+  explicit PlateSolver(SolveOptions options);
   /// The same with a database the caller loaded or built (`source` says where from;
   /// `from_file` true checks the observation epoch against it as --database does).
   PlateSolver(SolveOptions options, std::shared_ptr<const StarDatabase> db, std::string source,
@@ -65,13 +69,16 @@ class PlateSolver {
 
  private:
   std::unique_ptr<FrameOutcome> solveInput(FrameInput in, const std::string& name,
-                                           std::chrono::steady_clock::time_point t_start) const;
+                                           std::chrono::steady_clock::time_point t_start,
+                                           const DatabaseChoice* early = nullptr) const;
+  DatabaseChoice database(const SolveOptions& o, const CameraSearch& cs, int width, int height,
+                          const std::optional<double>& epoch_jyear,
+                          const std::string& epoch_source) const;
   SolveOptions o_;
   std::shared_ptr<const StarDatabase> given_db_;  ///< --database, or the caller's
   std::string given_source_;
   bool given_from_file_ = false;
   double given_ms_ = 0;
-  std::shared_ptr<DatabaseCache> cache_;
   CelestialFrame frame_;  ///< the frame asked for
 };
 

@@ -23,7 +23,7 @@ struct SolveOptions {
   CameraOptions camera;
   std::string database;
   std::string algorithm = StarIdentifier::defaultName();
-  std::string solver = "quest";
+  std::string solver = WahbaSolver::defaultName();
   bool json = false;
   std::vector<double> fov_range_deg = {5.0, 30.0};
   double mag_limit = 6.6;

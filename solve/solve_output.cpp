@@ -1,5 +1,7 @@
 #include "solve/solve_output.hpp"
 
+#include <unordered_map>
+
 
 #include <cmath>
 #include <cstdio>
@@ -56,9 +58,28 @@ struct Photometry {
 /// (ZP = ZP_1s + 2.5 log10 t for a frame of exposure t).
 constexpr double kAssumedExposureS = 1.0;
 
+/// True when the database holds its stars' colours (format 4 on; older files: none).
+bool hasColours(const StarDatabase& db) {
+  for (const Star& s : db.stars())
+    if (std::isfinite(s.bv)) return true;
+  return false;
+}
+
 Photometry photometry(const SolveReport& r) {
-  const auto& bv = colourIndex(r.db.report().catalog_path);
   Photometry p;
+  if (hasColours(r.db)) {
+    std::unordered_map<uint32_t, double> bv;
+    for (const StarMatch& m : r.ps.search.result.matches)
+      bv.emplace(m.catalog_id, r.db.stars()[m.star_index].bv);
+    p.stars = photometryStars(r.in.stars, r.ps.search.obs, r.ps.search.result.matches, r.db,
+                              kAssumedExposureS, [&bv](uint32_t id) {
+                                const auto it = bv.find(id);
+                                return it == bv.end() ? std::nan("") : it->second;
+                              });
+    p.fit = fitPhotometry(p.stars);
+    return p;
+  }
+  const auto& bv = colourIndex(r.db.report().catalog_path);  // an older database file
   p.stars = photometryStars(r.in.stars, r.ps.search.obs, r.ps.search.result.matches, r.db,
                             kAssumedExposureS, [&bv](uint32_t id) {
                               const auto it = bv.find(id);

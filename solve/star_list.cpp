@@ -1,6 +1,7 @@
 #include "solve/star_list.hpp"
 
-#include <fitsio.h>
+#include "imageio/fits.hpp"
+
 
 #include <algorithm>
 #include <cctype>

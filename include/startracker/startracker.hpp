@@ -1,10 +1,10 @@
 /// @file startracker.hpp
 /// The public C++ API of the star tracker: the one header a program that links the installed
 /// library includes (`find_package(startracker)`, target `startracker::api`; or pkg-config
-/// `startracker`). A thin façade over the project's stages (api/*.cpp); the stage headers
-/// it includes (catalog/, sensors/, fusion/) are installed beside it and give the types
-/// (FrameInputs, FrameResult, TrackerOptions, FusionLoop), but only what this header names is
-/// meant to stay stable.
+/// `startracker`). A thin façade over the project's stages (api/*.cpp). It includes only the
+/// seam types it names, installed beside it (attitude, conventions, errors, camera_model,
+/// frame: one definition each, which the stages use too), OpenCV's core, Eigen and
+/// nlohmann/json: no MRPT, CLI11 or stage header, and the libraries link no MRPT.
 ///
 ///   st::api::SolveOptions o;  o.fov_deg = 11.4;
 ///   st::api::SolveResult r = st::api::solve(cv::imread(path, cv::IMREAD_UNCHANGED), o);
@@ -16,7 +16,7 @@
 ///   in.observer_velocity_km_s = v_orbit;  // optional: corrects the orbit's aberration (5")
 ///   st::FrameResult fix = t.process(image, t_s, in);     // per frame, in time order
 ///
-/// The fusion loop (fusion/fusion_loop.hpp) takes the tracker as its frame processor:
+/// In-tree, the fusion loop (fusion/fusion_loop.hpp) takes the tracker as its frame processor:
 ///   st::FusionLoop loop(st::FusionOptions{});
 ///   loop.setFrameProcessor([&](uint64_t tag, double t, const st::FrameInputs& in) {
 ///     return t.process(frames[tag], t, in); });
@@ -39,16 +39,18 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
-#include "catalog/star_database.hpp"
-#include "common/attitude.hpp"
-#include "common/conventions.hpp"
-#include "common/errors.hpp"
-#include "fusion/fusion_loop.hpp"
-#include "sensors/camera/camera_model.hpp"
-#include "sensors/tracking/frame.hpp"
-#include "sensors/tracking/frozen_frame.hpp"
-#include "sensors/tracking/star_tracker.hpp"
-#include "sensors/tracking/tracker_options.hpp"
+// Only the public seam types, beside this header when installed: no MRPT, CLI11 or stage header.
+#include "startracker/attitude.hpp"
+#include "startracker/camera_model.hpp"
+#include "startracker/conventions.hpp"
+#include "startracker/errors.hpp"
+#include "startracker/frame.hpp"
+
+namespace st {
+class StarDatabase;     // catalog/star_database.hpp: opaque here
+class StarTracker;      // sensors/tracking/star_tracker.hpp: opaque here
+struct TrackerOptions;  // sensors/tracking/tracker_options.hpp: every tunable, for in-tree code
+}  // namespace st
 
 namespace st::api {
 
@@ -137,25 +139,38 @@ SolveResult solveFile(const std::string& path, SolveOptions options = {},
 /// timings): what the Python module's Tracker returns.
 nlohmann::ordered_json frameResultJson(const FrameResult& r);
 
+/// What a facade user tunes of the tracker; everything else keeps the library's defaults
+/// (in-tree code passes the whole TrackerOptions).
+struct TrackerSettings {
+  /// Floors of the centroid 1-sigma [px] in lost-in-space and in tracking: an uncalibrated
+  /// lens needs ~0.5 px (what solve uses without a camera file); NaN = the default.
+  double min_sigma_px = NAN, tracking_min_sigma_px = NAN;
+  /// Camera -> body rotation (R_body_cam); identity = the camera frame is the body frame.
+  Mat3 R_body_cam = Mat3::Identity();
+};
+
 /// The per-frame tracker (sensors/tracking/star_tracker.hpp) with its database: frames in
 /// time order, each with optional FrameInputs (a gyro rate, or a filter's prediction).
 class Tracker {
  public:
   /// Without `db`, builds one for `camera` (Database::forCamera). Throws InputError for
-  /// invalid options. A frame identical to the previous one (a frozen readout) is not
+  /// invalid settings. A frame identical to the previous one (a frozen readout) is not
   /// processed: FrameFailure::kFrozenImage.
-  explicit Tracker(const CameraModel& camera, TrackerOptions options = {},
+  explicit Tracker(const CameraModel& camera, const TrackerSettings& settings = {},
                    std::optional<Database> db = std::nullopt);
+  Tracker(const CameraModel& camera, const TrackerOptions& options,
+          std::optional<Database> db = std::nullopt);
   ~Tracker();
+  Tracker(Tracker&&) noexcept;
+  Tracker& operator=(Tracker&&) noexcept;
   FrameResult process(const cv::Mat& image, double t_s, const FrameInputs& in = {});
   void reset();
-  StarTracker& tracker() { return *tracker_; }
-  const Database& database() const { return db_; }
+  StarTracker& tracker();
+  const Database& database() const;
 
  private:
-  Database db_;
-  std::unique_ptr<StarTracker> tracker_;
-  FrozenFrameCheck frozen_;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace st::api

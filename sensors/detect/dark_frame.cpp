@@ -1,8 +1,9 @@
 #include "sensors/detect/dark_frame.hpp"
 
+#include "imageio/fits.hpp"
+
 #include "imageio/image_file.hpp"
 
-#include <fitsio.h>
 
 #include <algorithm>
 #include <cctype>

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "catalog/star_database.hpp"
+#include "sensors/attitude/wahba.hpp"
 #include "sensors/camera/camera_model.hpp"
 #include "sensors/identify/star_match.hpp"
 #include "sensors/identify/star_observation.hpp"
@@ -48,7 +49,7 @@ struct IdentifyOptions {
   int max_stars_retry = 30;      ///< when those fail, one more search over this many
   int max_verifications = 300;   ///< hypotheses verified before giving up
   long max_candidates = 2000000; ///< pattern candidates examined before giving up
-  std::string solver = "quest";  ///< Wahba solver (sensors/attitude/wahba.hpp)
+  std::string solver = WahbaSolver::defaultName();  ///< Wahba solver (sensors/attitude/wahba.hpp)
   /// [mag] > 0: a field of 2 or 3 stars (too few for the algorithm) is identified with the
   /// magnitude tie-break (few_stars.hpp); the 1-sigma of one star's magnitude against catalog
   /// V (the photometric scatter `solve` reports, catalog error included). 0: off, such a

@@ -5,7 +5,10 @@
 #include <vector>
 
 #include "common/errors.hpp"
+#include "sensors/attitude/wahba.hpp"
+#include "sensors/detect/centroider.hpp"
 #include "sensors/detect/dark_frame.hpp"
+#include "sensors/identify/identifier.hpp"
 
 namespace st {
 
@@ -71,7 +74,7 @@ const SectionSchema<DetectorOptions>& detectorSchema() {
           .add("detect_reject_flags", &D::reject_flags,
                "flags that remove a star: sum of 1 saturated, 2 edge, 4 elongated, 8 hot pixel, "
                "16 extended")
-          .add("centroider", &D::centroider, "cog | iwc | gauss")
+          .choice("centroider", &D::centroider, Centroider::names(), "centroid estimator")
           .add("psf_sigma_px", &D::psf_sigma_px, "[px] PSF sigma; 0 = estimate per star")
           .add("detect_window_margin_px", &D::window_margin_px, "[px] around a blob's box")
           .add("detect_reject_spikes", &D::reject_spikes, "gauss: drop single-pixel spikes, refit")
@@ -108,7 +111,7 @@ const SectionSchema<IdentifyOptions>& identifySchema() {
   using I = IdentifyOptions;
   static const auto s =
       SectionSchema<I>()
-          .add("lis_solver", &I::solver, "Wahba solver of lost-in-space")
+          .choice("lis_solver", &I::solver, WahbaSolver::names(), "Wahba solver of lost-in-space")
           .renamed("identify_solver", "lis_solver")
           .add("lis_pair_sigma", &I::pair_sigma, "star-pair tolerance in sigma of the angle")
           .renamed("pair_sigma", "lis_pair_sigma")
@@ -151,7 +154,7 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
   static const auto s =
       SectionSchema<T>()
           .add("exposure_s", &T::exposure_s, "[s] exposure, for the blur of predicted stars")
-          .add("lis_algorithm", &T::lis_algorithm, "lost-in-space algorithm (sensors/identify)")
+          .choice("lis_algorithm", &T::lis_algorithm, StarIdentifier::names(), "lost-in-space algorithm")
           .add("lis_min_sigma_px", &T::min_sigma_px, "[px] centroid sigma floor, lost-in-space")
           .renamed("min_sigma_px", "lis_min_sigma_px")
           .include(identifySchema(), &T::identify)
@@ -159,7 +162,7 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .add("cam_heal_range", &T::camera_heal_range,
                "lost-in-space heals a camera file within +-this relative focal length (0: off)")
           .include(onlineCameraSchema(), &T::online_camera)
-          .add("track_solver", &T::solver, "Wahba solver while tracking")
+          .choice("track_solver", &T::solver, WahbaSolver::names(), "Wahba solver while tracking")
           .renamed("solver", "track_solver lis_solver")  // it set both
           .add("track_min_sigma_px", &T::tracking_min_sigma_px,
                "[px] centroid sigma floor, tracking")

@@ -1,5 +1,7 @@
 #include "sensors/mrpt/star_tracker_sensor.hpp"
 
+#include "catalog/database_cache.hpp"
+
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/hwdrivers/CCameraSensor.h>
 #include <mrpt/obs/CObservationImage.h>
@@ -217,10 +219,7 @@ void CStarTrackerSensor::initialize() {
                                                : julianYear(mrpt::Clock::now());
       recipe.aberration = aberration_;
       db_build_.epoch_jyear = recipe.epoch_jyear;
-      const std::string cat =
-          catalog_file_.empty() ? StarDatabase::defaultCatalogPath() : catalog_file_;
-      db_ = std::make_shared<const StarDatabase>(
-          StarDatabase::build(loadCatalog(cat), databaseParams(recipe)));
+      db_ = cameraDatabase(recipe, catalog_file_);
     }
     tracker_ = std::make_unique<StarTracker>(*db_, camera_, o.trackerOptions());
   } catch (const InputError& e) {
@@ -274,13 +273,7 @@ void CStarTrackerSensor::doProcess() {
       continue;
     }
     if (source_kind_ == "camera") restamp(*img);
-    cv::Mat frame = img->image.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
-    if (frame.channels() == 3) {
-      cv::Mat grey;
-      cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
-      frame = grey;
-    }
-    processFrame(*img, frame, out);
+    processFrame(*img, img->image.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY), out);
     if (emit_image_) {
       // The frame carries the mounting the tracker used: replay mounts its tracker by it.
       img->cameraPose = opts_.sensor_pose;
@@ -336,8 +329,7 @@ void CStarTrackerSensor::processFrame(mrpt::obs::CObservationImage& image_obs,
   // The frame is recorded with the camera it was processed with (replay starts from the
   // first frame's and refines as this run did).
   image_obs.cameraParams = toTCamera(tracker_->camera());
-  const std::optional<double> seen = frozen_.repeats(image, t_s);
-  const FrameResult frame = seen ? frozenFrameResult(*seen) : tracker_->process(image, t_s, inputs);
+  const FrameResult frame = st::processFrame(*tracker_, frozen_, image, t_s, inputs);
   if (frame.camera_updated) updateCameraReport();
   auto obs = observationFromFrame(frame, t, m_sensorLabel, opts_.sensor_pose);
   ++frames_;

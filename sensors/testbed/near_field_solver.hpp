@@ -22,7 +22,7 @@ struct NearFieldOptions {
   /// +-250" per angle (sec. V.A).
   double tolerance = arcsec2rad(250.0);
   int iterations = 1;         ///< passes (the seed's "updates", 1..5 in Table 5)
-  std::string solver = "quest";  ///< Wahba solver (sensors/attitude/registry.cpp)
+  std::string solver = WahbaSolver::defaultName();  ///< Wahba solver (sensors/attitude/registry.cpp)
   double sigma = 1e-4;        ///< [rad] per-star 1-sigma handed to the solver (weights, cov)
   int min_stars = 3;          ///< fewer matched stars: this pass keeps the prediction
   /// False and *why (naming the field) when invalid.

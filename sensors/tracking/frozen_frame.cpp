@@ -1,5 +1,9 @@
 #include "sensors/tracking/frozen_frame.hpp"
 
+#include <opencv2/imgproc.hpp>
+
+#include "sensors/tracking/star_tracker.hpp"
+
 #include <cstdio>
 #include <cstring>
 
@@ -51,6 +55,15 @@ FrameResult frozenFrameResult(double seen_t_s) {
   r.failure = FrameFailure::kFrozenImage;
   r.detail = b;
   return r;
+}
+
+FrameResult processFrame(StarTracker& tracker, FrozenFrameCheck& frozen, const cv::Mat& image,
+                         double t_s, const FrameInputs& in) {
+  cv::Mat grey = image;
+  if (image.channels() == 3 || image.channels() == 4)
+    cv::cvtColor(image, grey, image.channels() == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+  if (const std::optional<double> seen = frozen.repeats(grey, t_s)) return frozenFrameResult(*seen);
+  return tracker.process(grey, t_s, in);
 }
 
 }  // namespace st

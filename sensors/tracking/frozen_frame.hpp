@@ -34,4 +34,12 @@ class FrozenFrameCheck {
 /// The failed frame of a repeat of the frame at `seen_t_s` (FrameFailure::kFrozenImage).
 FrameResult frozenFrameResult(double seen_t_s);
 
+class StarTracker;
+
+/// The one edge every frame passes on its way into a tracker (replay's navigator, the live
+/// sensor, the library's Tracker): colour (BGR/BGRA) to grey, the frozen-readout check, then
+/// StarTracker::process. A repeat gives frozenFrameResult (failure kFrozenImage).
+FrameResult processFrame(StarTracker& tracker, FrozenFrameCheck& frozen, const cv::Mat& image,
+                         double t_s, const FrameInputs& in);
+
 }  // namespace st

@@ -38,7 +38,7 @@ struct TrackerOptions {
   OnlineCameraOptions online_camera;
 
   // --- tracking ---
-  std::string solver = "quest";   ///< Wahba solver while tracking
+  std::string solver = WahbaSolver::defaultName();   ///< Wahba solver while tracking
   int max_tracked_stars = 20;     ///< windows per frame (brightest predicted stars)
   int min_tracked_stars = 4;      ///< fewer gated stars -> failed frame
   /// Leave saturated stars out of the tracking fix while at least min_tracked_stars others

@@ -44,7 +44,7 @@ const Data& data() {
     GyroSample g;
     while (sim.nextGyro(g)) out.rates.push_back(g.rate);
     DatabaseSource src;
-    out.db = std::make_unique<StarDatabase>(makeDatabase(src, out.sc.camera, out.sc.epochJyear()));
+    out.db = std::make_unique<StarDatabase>(*makeDatabase(src, out.sc.camera, out.sc.epochJyear()));
     return out;
   }();
   return d;

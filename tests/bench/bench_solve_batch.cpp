@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "catalog/database_cache.hpp"
 #include "solve/plate_solver.hpp"
 #include "catalog/database_recipe.hpp"
 #include "common/conventions.hpp"
@@ -56,9 +57,9 @@ void BM_DatabaseCacheHit(benchmark::State& state) {
   r.mag_limit = 6.6;
   r.epoch_jyear = 2019.574;
   const DatabaseParams p = databaseParams(r);
-  solve::DatabaseCache(StarDatabase::defaultCatalogPath(), true).get(p);  // written once
+  DatabaseCache(StarDatabase::defaultCatalogPath(), true).get(p);  // written once
   for (auto _ : state) {
-    solve::DatabaseCache cache(StarDatabase::defaultCatalogPath(), true);  // nothing in memory
+    DatabaseCache cache(StarDatabase::defaultCatalogPath(), true);  // nothing in memory
     auto c = cache.get(p);
     if (c.how.rfind("read from the cache", 0) != 0) state.SkipWithError(c.how.c_str());
     benchmark::DoNotOptimize(c);

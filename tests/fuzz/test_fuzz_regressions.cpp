@@ -12,6 +12,7 @@
 
 #include <zlib.h>
 
+#include "sensors/mrpt/camera_ini.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
 #include "common/errors.hpp"
@@ -33,7 +34,6 @@ struct Entry {
 const Entry kTargets[] = {
 #define ST_FUZZ_TARGET(name) {#name, &fuzz::name},
 #include "tests/fuzz/target_list.inc"
-#include "sensors/mrpt/camera_ini.hpp"
 #undef ST_FUZZ_TARGET
 };
 

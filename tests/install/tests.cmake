@@ -17,6 +17,12 @@ add_test(NAME install_tree
          COMMAND sh -c "rm -rf '${ST_TEST_PREFIX}' && '${CMAKE_COMMAND}' --install '${CMAKE_BINARY_DIR}' --prefix '${ST_TEST_PREFIX}' >/dev/null")
 set_tests_properties(install_tree PROPERTIES FIXTURES_SETUP st_installed LABELS install)
 
+# The installed headers are the public ones only, and none of them names MRPT or CLI11: a
+# flight program compiles against them with OpenCV and Eigen alone.
+add_test(NAME install_public_headers
+         COMMAND sh -c "cd '${ST_TEST_PREFIX}/include' && ls startracker && ! grep -rlE 'mrpt|CLI/|include .(common|sensors|catalog|fusion|config|solve|app|api)/' . && [ $(find . -name '*.hpp' | wc -l) -eq $(ls '${ST_ROOT}/include/startracker' | wc -l) ] && ! grep -iq mrpt '${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig/startracker.pc'")
+set_tests_properties(install_public_headers PROPERTIES FIXTURES_REQUIRED st_installed LABELS install)
+
 add_test(NAME install_consumer
          COMMAND sh -c "rm -rf consumer-build && '${CMAKE_COMMAND}' -S '${CMAKE_CURRENT_SOURCE_DIR}/install/consumer' -B consumer-build -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH='${ST_TEST_PREFIX}' ${_launcher} >/dev/null && '${CMAKE_COMMAND}' --build consumer-build >/dev/null && consumer-build/consumer '${_frames}'/*.tiff"
          WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})

@@ -126,7 +126,7 @@ const StarDatabase& databaseFor(const Scenario& sc) {
   if (!p) {
     DatabaseSource src;
     src.mag_limit = 6.5;
-    p = std::make_unique<StarDatabase>(makeDatabase(src, sc.camera, sc.epochJyear()));
+    p = std::make_unique<StarDatabase>(*makeDatabase(src, sc.camera, sc.epochJyear()));
   }
   return *p;
 }

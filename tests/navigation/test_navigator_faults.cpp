@@ -31,7 +31,7 @@ TEST(NavigatorFaults, FrozenImagesFailAsFrozenAndTheGyroCarriesTheFilter) {
   const Scenario sc = Scenario::fromConfig(cfg, "frozen scenario");
   DatabaseSource src;
   src.mag_limit = 6.5;
-  const StarDatabase db = makeDatabase(src, sc.camera, sc.epochJyear());
+  const StarDatabase db = *makeDatabase(src, sc.camera, sc.epochJyear());
   NavigatorOptions o;
   o.pipeline.tracker.exposure_s = sc.sensor.exposure_s;
   o.pipeline.tracker.detect.gain_e_per_adu = sc.sensor.gain();

@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   const st::api::SolveResult s0 = st::api::solveFile(paths[0], o);
   const st::CameraModel cam = st::CameraModel::fromFov(
       first.cols, first.rows, st::deg2rad(s0.json.value("hfov_deg", 11.4)));
-  st::TrackerOptions to;
+  st::api::TrackerSettings to;
   to.min_sigma_px = to.tracking_min_sigma_px = 0.5;
   st::api::Tracker tracker(
       cam, to, st::api::Database::forCamera(cam, 6.6, s0.json.value("epoch_jyear", 0.0)));

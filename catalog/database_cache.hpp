@@ -16,9 +16,10 @@
 #include <mutex>
 #include <string>
 
+#include "catalog/database_recipe.hpp"
 #include "catalog/star_database.hpp"
 
-namespace st::solve {
+namespace st {
 
 /// The cache folder ("" when neither XDG_CACHE_HOME nor HOME is set).
 std::string databaseCacheDir();
@@ -46,4 +47,12 @@ class DatabaseCache {
   std::map<std::string, CachedDatabase> memory_;
 };
 
-}  // namespace st::solve
+/// The one way to the star database of a camera recipe (database_recipe.hpp), for every
+/// command and the library: built from `catalog_path` ("" = the default catalog) once per
+/// process and kept in the user's cache folder (`use_disk` false: in memory only). `how`
+/// (optional) receives where it came from ("built in memory", "read from the cache ...").
+std::shared_ptr<const StarDatabase> cameraDatabase(const CameraDatabaseRecipe& r,
+                                                   const std::string& catalog_path = "",
+                                                   bool use_disk = true, std::string* how = nullptr);
+
+}  // namespace st

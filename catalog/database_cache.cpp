@@ -1,4 +1,4 @@
-#include "solve/database_cache.hpp"
+#include "catalog/database_cache.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -16,14 +16,14 @@
 #include "common/errors.hpp"
 #include "common/log.hpp"
 
-namespace st::solve {
+namespace st {
 namespace fs = std::filesystem;
 
 namespace {
 
 /// Bumped when the database file format or the build changes in a way the parameters do not
 /// show, so that old cache files are never mistaken for current ones.
-constexpr int kCacheGeneration = 2;  // 2: blend-screen stars (database format 3)
+constexpr int kCacheGeneration = 3;  // 3: B-V per star (database format 4)
 
 std::uint64_t fnv1a(const std::string& s) {
   std::uint64_t h = 1469598103934665603ull;
@@ -142,4 +142,23 @@ CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p) {
   return out;
 }
 
-}  // namespace st::solve
+std::shared_ptr<const StarDatabase> cameraDatabase(const CameraDatabaseRecipe& r,
+                                                   const std::string& catalog_path, bool use_disk,
+                                                   std::string* how) {
+  // One cache per catalog file and disk policy, for the life of the process.
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, bool>, std::unique_ptr<DatabaseCache>> caches;
+  const std::string cat = catalog_path.empty() ? StarDatabase::defaultCatalogPath() : catalog_path;
+  DatabaseCache* cache = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    auto& slot = caches[{cat, use_disk}];
+    if (!slot) slot = std::make_unique<DatabaseCache>(cat, use_disk);
+    cache = slot.get();
+  }
+  CachedDatabase c = cache->get(databaseParams(r));
+  if (how) *how = c.how;
+  return c.db;
+}
+
+}  // namespace st
