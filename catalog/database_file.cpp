@@ -31,7 +31,7 @@ constexpr char kMagic[8] = {'S', 'T', 'A', 'R', 'D', 'B', '\r', '\n'};
 // 2: the report records the catalog file, its depth and the requested limit (issue 21).
 // 3: the blend screen's stars (ScreenStar) after the neighbour table.
 // Format 1 and 2 files still load, without what came later.
-constexpr uint32_t kFormatVersion = 4;  // 4: B-V per star
+constexpr uint32_t kFormatVersion = StarDatabase::kFileFormat;  // 4: B-V per star
 constexpr uint32_t kOldestReadableVersion = 1;
 constexpr uint32_t kByteOrderMark = 0x01020304;
 
@@ -102,10 +102,13 @@ uint32_t crc32Of(const char* p, std::size_t n) {
 
 }  // namespace
 
-void StarDatabase::save(const std::string& path) const {
+void StarDatabase::save(const std::string& path, uint32_t format) const {
+  if (format < 2 || format > kFormatVersion)
+    throw InputError(path + ": star database format " + std::to_string(format) +
+                     " cannot be written (2 to " + std::to_string(kFormatVersion) + ")");
   Writer w;
   w.buf.append(kMagic, sizeof kMagic);
-  w.put(kFormatVersion);
+  w.put(format);
   w.put(kByteOrderMark);
   const DatabaseParams& p = params_;
   w.put(p.max_pair_angle);
@@ -136,7 +139,7 @@ void StarDatabase::save(const std::string& path) const {
     w.put(s.u_i.y());
     w.put(s.u_i.z());
     w.put(s.mag);
-    w.put(s.bv);
+    if (format >= 4) w.put(s.bv);
   }
   const bool narrow = stars_.size() < 65536;
   w.put(uint8_t(narrow ? 2 : 4));
@@ -154,12 +157,14 @@ void StarDatabase::save(const std::string& path) const {
   }
   for (uint32_t v : nbr_start_) w.put(v);
   for (uint32_t v : nbr_) putIndex(v);
-  w.put(uint32_t(screen_.size()));
-  for (const ScreenStar& s : screen_) {
-    w.put(s.u_i.x());
-    w.put(s.u_i.y());
-    w.put(s.u_i.z());
-    w.put(s.mag);
+  if (format >= 3) {
+    w.put(uint32_t(screen_.size()));
+    for (const ScreenStar& s : screen_) {
+      w.put(s.u_i.x());
+      w.put(s.u_i.y());
+      w.put(s.u_i.z());
+      w.put(s.mag);
+    }
   }
   w.put(crc32Of(w.buf.data(), w.buf.size()));
 

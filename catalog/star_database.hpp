@@ -101,8 +101,11 @@ class StarDatabase {
   using ProgressFn = std::function<void(const std::string&)>;
   static StarDatabase build(const StarCatalog&, const DatabaseParams&, const ProgressFn& progress);
   static std::string defaultCatalogPath();  ///< hip_main_v6.6.dat.gz in $STARTRACKER_DATA_DIR, else <program>/../share/startracker, else catalog/data
-  /// Writes the versioned binary file; throws InputError if it cannot be written.
-  void save(const std::string& path) const;
+  /// The file format save() writes by default (format 4: B-V per star).
+  static constexpr uint32_t kFileFormat = 4;
+  /// Writes the versioned binary file; throws InputError if it cannot be written. An older
+  /// `format` (2: no blend screen, no B-V; 3: no B-V) is for readers of those versions.
+  void save(const std::string& path, uint32_t format = kFileFormat) const;
   /// InputError (naming the file) on bad magic/version/checksum or a truncated file. Reads
   /// format 3 and the older 2 (no blend-screen stars) and 1 (nor catalog path, depth or
   /// requested limit).

@@ -69,8 +69,10 @@ Photometry photometry(const SolveReport& r) {
   Photometry p;
   if (hasColours(r.db)) {
     std::unordered_map<uint32_t, double> bv;
+    // The catalog's B-V has at most 4 decimals: rounded back from the file's float, it is the
+    // catalog's own double again (what an older database's catalog read gives).
     for (const StarMatch& m : r.ps.search.result.matches)
-      bv.emplace(m.catalog_id, r.db.stars()[m.star_index].bv);
+      bv.emplace(m.catalog_id, std::round(double(r.db.stars()[m.star_index].bv) * 1e4) / 1e4);
     p.stars = photometryStars(r.in.stars, r.ps.search.obs, r.ps.search.result.matches, r.db,
                               kAssumedExposureS, [&bv](uint32_t id) {
                                 const auto it = bv.find(id);

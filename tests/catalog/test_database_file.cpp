@@ -97,36 +97,27 @@ TEST(StarDatabaseFile, RefusesCorruptOtherVersionAndForeignFiles) {
   EXPECT_NE(loadError(dir + "/cut.stdb").find("cut.stdb"), std::string::npos);
 
   // A newer format version, with a checksum that is right for the changed bytes.
-  std::string v3 = bytes.substr(0, bytes.size() - 4);
-  const uint32_t version = 4;
-  std::memcpy(&v3[8], &version, 4);
-  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v3.data()), uInt(v3.size())));
-  v3.append(reinterpret_cast<const char*>(&crc), 4);
-  writeBytes(dir + "/v4.stdb", v3);
-  const std::string msg = loadError(dir + "/v4.stdb");
-  EXPECT_NE(msg.find("version 4"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("v4.stdb"), std::string::npos) << msg;
+  std::string newer = bytes.substr(0, bytes.size() - 4);
+  const uint32_t version = StarDatabase::kFileFormat + 1;
+  std::memcpy(&newer[8], &version, 4);
+  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(newer.data()), uInt(newer.size())));
+  newer.append(reinterpret_cast<const char*>(&crc), 4);
+  writeBytes(dir + "/newer.stdb", newer);
+  const std::string msg = loadError(dir + "/newer.stdb");
+  EXPECT_NE(msg.find("version " + std::to_string(version)), std::string::npos) << msg;
+  EXPECT_NE(msg.find("newer.stdb"), std::string::npos) << msg;
 
   writeBytes(dir + "/foreign.stdb", "hello, not a database at all........");
   EXPECT_NE(loadError(dir + "/foreign.stdb").find("bad magic"), std::string::npos);
   EXPECT_NE(loadError(dir + "/missing.stdb").find("cannot open"), std::string::npos);
 }
 
-// A file of format 2 (before the blend-screen stars) still loads, with an empty screen: a
-// format-3 file with its screen section (count + 28 bytes per star, before the checksum) cut
-// off and the version set to 2.
+// A file of format 2 (before the blend-screen stars) still loads, with an empty screen.
 TEST(StarDatabaseFile, ReadsFormat2FilesWithoutAScreen) {
   const std::string dir = test::makeTempDir("catalog");
   const StarDatabase& db = test::hipDatabase15();
   ASSERT_GT(db.screenStars().size(), 0u);
-  db.save(dir + "/v3.stdb");
-  const std::string bytes = readBytes(dir + "/v3.stdb");
-  std::string v2 = bytes.substr(0, bytes.size() - 4 - 4 - 28 * db.screenStars().size());
-  const uint32_t version = 2;
-  std::memcpy(&v2[8], &version, 4);
-  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(v2.data()), uInt(v2.size())));
-  v2.append(reinterpret_cast<const char*>(&crc), 4);
-  writeBytes(dir + "/v2.stdb", v2);
+  db.save(dir + "/v2.stdb", 2);
   const StarDatabase back = StarDatabase::load(dir + "/v2.stdb");
   EXPECT_EQ(back.stars().size(), db.stars().size());
   EXPECT_EQ(back.pairs().size(), db.pairs().size());
@@ -134,6 +125,28 @@ TEST(StarDatabaseFile, ReadsFormat2FilesWithoutAScreen) {
   std::vector<uint32_t> near;
   back.screenConeQuery(db.stars()[0].u_i, 0.5, near);
   EXPECT_TRUE(near.empty());
+}
+
+// A file of format 3 (before the B-V colours) loads with unknown colours; format 4 keeps
+// the catalog's B-V of every star (photometry's colour term reads no catalog).
+TEST(StarDatabaseFile, FormatFourKeepsColoursAndThreeReadsWithout) {
+  const std::string dir = test::makeTempDir("catalog");
+  const StarDatabase& db = test::hipDatabase15();
+  db.save(dir + "/v4.stdb");
+  db.save(dir + "/v3.stdb", 3);
+  const StarDatabase v4 = StarDatabase::load(dir + "/v4.stdb");
+  const StarDatabase v3 = StarDatabase::load(dir + "/v3.stdb");
+  ASSERT_EQ(v4.stars().size(), db.stars().size());
+  std::size_t coloured = 0;
+  for (std::size_t i = 0; i < db.stars().size(); ++i) {
+    const float a = db.stars()[i].bv, b = v4.stars()[i].bv;
+    EXPECT_TRUE((std::isnan(a) && std::isnan(b)) || a == b) << i;
+    coloured += std::isfinite(a);
+    EXPECT_TRUE(std::isnan(v3.stars()[i].bv)) << i;
+  }
+  EXPECT_GT(coloured, db.stars().size() * 9 / 10);  // Hipparcos gives B-V for almost all
+  EXPECT_EQ(v3.screenStars().size(), db.screenStars().size());
+  EXPECT_THROW(db.save(dir + "/v9.stdb", 9), InputError);
 }
 
 // A file of format 1 (before the catalog's depth was recorded), built by the program of
