@@ -64,9 +64,11 @@ st::api::SolveOptions solveOptions(std::optional<double> fov_deg, const std::str
                                    double mag_limit, std::optional<double> epoch, int max_stars,
                                    const std::string& parity, std::optional<double> ra,
                                    std::optional<double> dec, std::optional<double> radius,
-                                   double cpulimit, const std::string& name, bool no_aberration) {
+                                   double cpulimit, const std::string& name, bool no_aberration,
+                                   bool no_cache) {
   st::api::SolveOptions o;
   o.no_aberration = no_aberration;
+  o.no_cache = no_cache;
   o.fov_deg = fov_deg;
   o.camera_file = camera;
   o.fov_min_deg = fov_range.first;
@@ -165,11 +167,11 @@ PYBIND11_MODULE(_startracker, m) {
          const std::string& solver, double mag_limit, std::optional<double> epoch, int max_stars,
          const std::string& parity, std::optional<double> ra, std::optional<double> dec,
          std::optional<double> radius, double cpulimit, const std::string& name,
-         const st::api::Database* database, bool no_aberration) {
+         const st::api::Database* database, bool no_aberration, bool no_cache) {
         const cv::Mat view = matView(image);
         const auto o = solveOptions(fov_deg, camera, fov_range, algorithm, solver, mag_limit,
                                     epoch, max_stars, parity, ra, dec, radius, cpulimit, name,
-                                    no_aberration);
+                                    no_aberration, no_cache);
         st::api::SolveResult r;
         {
           py::gil_scoped_release nogil;
@@ -183,16 +185,17 @@ PYBIND11_MODULE(_startracker, m) {
       py::arg("max_stars") = 12, py::arg("parity") = "both", py::arg("ra") = py::none(),
       py::arg("dec") = py::none(), py::arg("radius") = py::none(), py::arg("cpulimit") = 0.0,
       py::arg("name") = "<array>", py::arg("database") = nullptr,
-      py::arg("no_aberration") = false, solve_doc);
+      py::arg("no_aberration") = false, py::arg("no_cache") = false, solve_doc);
   m.def(
       "solve_file",
       [](const std::string& path, std::optional<double> fov_deg, const std::string& camera,
          std::pair<double, double> fov_range, const std::string& algorithm,
          const std::string& solver, double mag_limit, std::optional<double> epoch, int max_stars,
-         const std::string& parity, const st::api::Database* database, bool no_aberration) {
+         const std::string& parity, const st::api::Database* database, bool no_aberration,
+         bool no_cache) {
         const auto o = solveOptions(fov_deg, camera, fov_range, algorithm, solver, mag_limit,
                                     epoch, max_stars, parity, std::nullopt, std::nullopt,
-                                    std::nullopt, 0, "<memory>", no_aberration);
+                                    std::nullopt, 0, "<memory>", no_aberration, no_cache);
         st::api::SolveResult r;
         {
           py::gil_scoped_release nogil;
@@ -204,7 +207,7 @@ PYBIND11_MODULE(_startracker, m) {
       py::arg("fov_range") = std::make_pair(5.0, 30.0), py::arg("algorithm") = "",
       py::arg("solver") = "", py::arg("mag_limit") = 6.6, py::arg("epoch") = py::none(),
       py::arg("max_stars") = 12, py::arg("parity") = "both", py::arg("database") = nullptr,
-      py::arg("no_aberration") = false, "solve() on an image file; its epoch from DATE-OBS or the file name");
+      py::arg("no_aberration") = false, py::arg("no_cache") = false, "solve() on an image file; its epoch from DATE-OBS or the file name");
 
   py::class_<st::api::Tracker>(m, "Tracker")
       .def(py::init([](int width, int height, std::optional<double> fov_deg,

@@ -19,14 +19,19 @@ ParityChoice SolveOptions::parityChoice() const {
 std::optional<PositionHint> SolveOptions::positionHint() const {
   const int given = int(!std::isnan(ra_deg)) + int(!std::isnan(dec_deg)) + int(!std::isnan(radius_deg));
   if (given == 0) return std::nullopt;
+  // The names the caller's user knows: the command's flags, or the library's fields.
+  const bool cli = !option_prefix.empty();
+  const std::string ra = cli ? "--ra" : "ra_deg", dec = cli ? "--dec" : "dec_deg",
+                    radius = cli ? "--radius" : "radius_deg";
   if (given != 3)
-    throw InputError("--ra, --dec and --radius go together: the hint is a circle on the sky");
+    throw InputError(ra + ", " + dec + " and " + radius +
+                     " go together: the hint is a circle on the sky");
   if (!(ra_deg >= 0 && ra_deg <= 360))
-    throw InputError("--ra " + std::to_string(ra_deg) + ": must be in [0, 360] deg");
+    throw InputError(ra + " " + std::to_string(ra_deg) + ": must be in [0, 360] deg");
   if (!(dec_deg >= -90 && dec_deg <= 90))
-    throw InputError("--dec " + std::to_string(dec_deg) + ": must be in [-90, 90] deg");
+    throw InputError(dec + " " + std::to_string(dec_deg) + ": must be in [-90, 90] deg");
   if (!(radius_deg > 0 && radius_deg <= 180))
-    throw InputError("--radius " + std::to_string(radius_deg) + ": must be in (0, 180] deg");
+    throw InputError(radius + " " + std::to_string(radius_deg) + ": must be in (0, 180] deg");
   return PositionHint{deg2rad(ra_deg), deg2rad(dec_deg), deg2rad(radius_deg)};
 }
 

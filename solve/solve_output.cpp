@@ -1,7 +1,5 @@
 #include "solve/solve_output.hpp"
 
-#include <unordered_map>
-
 
 #include <cmath>
 #include <cstdio>
@@ -66,22 +64,15 @@ bool hasColours(const StarDatabase& db) {
 }
 
 Photometry photometry(const SolveReport& r) {
-  Photometry p;
-  if (hasColours(r.db)) {
-    std::unordered_map<uint32_t, double> bv;
+  // B-V by catalog id: the database's own (format 4), else the catalog it was built from.
+  std::map<uint32_t, double> own;
+  if (hasColours(r.db))
     // The catalog's B-V has at most 4 decimals: rounded back from the file's float, it is the
     // catalog's own double again (what an older database's catalog read gives).
     for (const StarMatch& m : r.ps.search.result.matches)
-      bv.emplace(m.catalog_id, std::round(double(r.db.stars()[m.star_index].bv) * 1e4) / 1e4);
-    p.stars = photometryStars(r.in.stars, r.ps.search.obs, r.ps.search.result.matches, r.db,
-                              kAssumedExposureS, [&bv](uint32_t id) {
-                                const auto it = bv.find(id);
-                                return it == bv.end() ? std::nan("") : it->second;
-                              });
-    p.fit = fitPhotometry(p.stars);
-    return p;
-  }
-  const auto& bv = colourIndex(r.db.report().catalog_path);  // an older database file
+      own.emplace(m.catalog_id, std::round(double(r.db.stars()[m.star_index].bv) * 1e4) / 1e4);
+  const std::map<uint32_t, double>& bv = own.empty() ? colourIndex(r.db.report().catalog_path) : own;
+  Photometry p;
   p.stars = photometryStars(r.in.stars, r.ps.search.obs, r.ps.search.result.matches, r.db,
                             kAssumedExposureS, [&bv](uint32_t id) {
                               const auto it = bv.find(id);

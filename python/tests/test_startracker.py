@@ -28,26 +28,28 @@ def test_eight_frames_are_there():
     assert len(FRAMES) == 8
 
 
+def without_timings(r):
+    return {k: v for k, v in r.items() if k != "timing_ms"}
+
+
 @pytest.mark.parametrize("path", FRAMES, ids=lambda p: p.stem)
 def test_numpy_solve_equals_the_command_line(path):
-    """Same pixels, same epoch: the same solution and the same keys as `solve --json`."""
+    """One plate solver (solve/): the same pixels at the same epoch give the same object as
+    `solve --json`, number for number, apart from the timings and what names the input."""
     cli = cli_solve(path)
     assert cli["solved"], cli
     img = startracker.read_image(str(path))
     assert img.dtype == np.uint16 and img.shape == (768, 1024)  # 16-bit TIFF
-    r = startracker.solve(img, fov_deg=FOV, epoch=cli["epoch_jyear"])
+    r = startracker.solve(img, fov_deg=FOV, epoch=cli["epoch_jyear"], name=str(path),
+                          no_cache=True)
     assert r["solved"], r
-    assert list(r.keys()) == list(cli.keys())
-    assert r["stars_matched"] == cli["stars_matched"] >= 10
-    # The CLI builds its in-memory database at the epoch rounded to 0.001 yr (solve_run.cpp,
-    # for its cache), the module at the epoch given: stars move by < 0.15" (aberration +
-    # proper motion in 0.001 yr), the attitude by much less; 1e-6 deg = 3.6 mas.
-    for k in ("ra_deg", "dec_deg", "roll_deg"):
-        assert r[k] == pytest.approx(cli[k], abs=1e-6), k
-    assert r["rms_residual_arcsec"] == pytest.approx(cli["rms_residual_arcsec"], abs=1e-3)
-    assert np.allclose(r["covariance"], cli["covariance"], rtol=1e-3, atol=0)
-    assert [s["id"] for s in r["stars"]] == [s["id"] for s in cli["stars"]]
-    assert r["image"] == "<array>"
+    expected = without_timings(cli)
+    expected["epoch_source"] = "--epoch"  # given here, read from the file name there
+    expected["database"] = expected["database"].replace("epoch from file name", "epoch from --epoch")
+    assert without_timings(r) == expected
+    # From the file: nothing differs but the timings.
+    assert without_timings(startracker.solve_file(str(path), fov_deg=FOV, no_cache=True)) == \
+        without_timings(cli)
 
 
 def test_known_field_centre():
@@ -79,7 +81,7 @@ def test_eight_bit_and_row_strided_views_solve():
     (np.zeros((768, 1024), np.float32), "dtype"),
     (np.zeros((768, 1024, 3), np.uint8), "2-D"),
     (np.zeros((768, 2048), np.uint16)[:, ::2], "adjacent"),
-    (np.zeros((8, 8), np.uint8), "16 px"),
+    (np.zeros((8, 8), np.uint8), "at least 16"),
 ])
 def test_bad_images_raise_value_error_naming_the_problem(bad, what):
     with pytest.raises(ValueError, match=what):

@@ -20,7 +20,7 @@ set_tests_properties(install_tree PROPERTIES FIXTURES_SETUP st_installed LABELS 
 # The installed headers are the public ones only, and none of them names MRPT or CLI11: a
 # flight program compiles against them with OpenCV and Eigen alone.
 add_test(NAME install_public_headers
-         COMMAND sh -c "cd '${ST_TEST_PREFIX}/include' && ls startracker && ! grep -rlE 'mrpt|CLI/|include .(common|sensors|catalog|fusion|config|solve|app|api)/' . && [ $(find . -name '*.hpp' | wc -l) -eq $(ls '${ST_ROOT}/include/startracker' | wc -l) ] && ! grep -iq mrpt '${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig/startracker.pc'")
+         COMMAND sh -c "cd '${ST_TEST_PREFIX}/include' && ls startracker && ! grep -rhE '^ *# *include' . | grep -E 'mrpt|CLI|.(common|sensors|catalog|fusion|config|solve|app|api|imageio|navigation)/' && [ $(find . -name '*.hpp' | wc -l) -eq $(ls '${ST_ROOT}/include/startracker' | wc -l) ] && ! grep -iq mrpt '${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig/startracker.pc'")
 set_tests_properties(install_public_headers PROPERTIES FIXTURES_REQUIRED st_installed LABELS install)
 
 add_test(NAME install_consumer

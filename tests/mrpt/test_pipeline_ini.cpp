@@ -9,6 +9,9 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "sensors/attitude/wahba.hpp"
+#include "sensors/detect/centroider.hpp"
+#include "sensors/identify/identifier.hpp"
 #include "common/errors.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
 
@@ -26,6 +29,10 @@ std::vector<std::string> lines(const std::string& text) {
 std::string otherValue(const std::string& def) {
   if (def == "true") return "false";
   if (def == "false") return "true";
+  // A key restricted to a registry's names (centroider, solvers, identifier): another name.
+  for (const auto& names : {Centroider::names(), WahbaSolver::names(), StarIdentifier::names()})
+    for (const std::string& n : names)
+      if (n == def) return names.front() == def ? names.back() : names.front();
   char* end = nullptr;
   const double d = std::strtod(def.c_str(), &end);
   if (!def.empty() && *end == '\0') return formatIniNumber(d + 1);
