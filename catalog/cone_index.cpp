@@ -12,11 +12,13 @@ void ConeIndex::build(const std::vector<Vec3>& u) {
   n_ = u.size();
   for (int c = 0; c < 3; ++c) {
     AxisIndex& ax = axis_[c];
+    // Sorted as (coordinate, index) pairs: the same order as comparing u[a][c] then a, but
+    // on contiguous keys (an indirect comparator made this a third of a database's load).
+    std::vector<std::pair<double, uint32_t>> keyed(n_);
+    for (std::size_t k = 0; k < n_; ++k) keyed[k] = {u[k][c], uint32_t(k)};
+    std::sort(keyed.begin(), keyed.end());
     ax.order.resize(n_);
-    std::iota(ax.order.begin(), ax.order.end(), 0u);
-    std::sort(ax.order.begin(), ax.order.end(), [&](uint32_t a, uint32_t b) {
-      return u[a][c] != u[b][c] ? u[a][c] < u[b][c] : a < b;
-    });
+    for (std::size_t k = 0; k < n_; ++k) ax.order[k] = keyed[k].second;
     ax.u.resize(n_);
     ax.coord.resize(n_);
     for (std::size_t k = 0; k < n_; ++k) {

@@ -21,8 +21,15 @@ set(ST_EXPORTED_LIBS st_api st_solve st_imageio st_fusion st_sensors_tracking st
 # `startracker` is the launcher; it runs startracker-solve (solve) or startracker-cli (every
 # other command) from the same folder.
 install(TARGETS startracker startracker-cli startracker-solve RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
-install(TARGETS startracker_mrpt startracker_sim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        COMPONENT runtime)
+install(TARGETS startracker_sim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime)
+# The MRPT plugin is the package's separate `mrpt` component: find_package(startracker
+# COMPONENTS mrpt) -> startracker::mrpt (the core package names no MRPT).
+install(TARGETS startracker_mrpt EXPORT startrackerMrptTargets
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime)
+install(FILES ${ST_ROOT}/sensors/mrpt/observation_star_tracker.hpp
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/startracker/mrpt COMPONENT dev)
+install(EXPORT startrackerMrptTargets NAMESPACE startracker:: DESTINATION ${ST_CMAKE_INSTALL_DIR}
+        COMPONENT dev)
 install(FILES ${ST_ROOT}/catalog/data/hip_main_v6.6.dat.gz ${ST_ROOT}/catalog/data/bsc5
               ${ST_ROOT}/catalog/data/README.md
         DESTINATION ${ST_DATA_INSTALL_DIR} COMPONENT runtime)

@@ -28,8 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "common/attitude.hpp"
-#include "sensors/tracking/frame.hpp"
+#include "startracker/attitude.hpp"
+#include "startracker/frame.hpp"
 
 namespace st {
 

@@ -20,8 +20,15 @@ set_tests_properties(install_tree PROPERTIES FIXTURES_SETUP st_installed LABELS 
 # The installed headers are the public ones only, and none of them names MRPT or CLI11: a
 # flight program compiles against them with OpenCV and Eigen alone.
 add_test(NAME install_public_headers
-         COMMAND sh -c "cd '${ST_TEST_PREFIX}/include' && ls startracker && ! grep -rhE '^ *# *include' . | grep -E 'mrpt|CLI|.(common|sensors|catalog|fusion|config|solve|app|api|imageio|navigation)/' && [ $(find . -name '*.hpp' | wc -l) -eq $(ls '${ST_ROOT}/include/startracker' | wc -l) ] && ! grep -iq mrpt '${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig/startracker.pc'")
+         COMMAND sh -c "cd '${ST_TEST_PREFIX}/include' && ls startracker && ! grep -hE '^ *# *include' startracker/*.hpp | grep -E 'mrpt|CLI|.(common|sensors|catalog|fusion|config|solve|app|api|imageio|navigation)/' && [ $(ls startracker/*.hpp | wc -l) -eq $(ls '${ST_ROOT}/include/startracker' | wc -l) ] && ! grep -iq mrpt '${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig/startracker.pc'")
 set_tests_properties(install_public_headers PROPERTIES FIXTURES_REQUIRED st_installed LABELS install)
+
+# The separate MRPT component: a program that reads the project's observations.
+add_test(NAME install_mrpt_component
+         COMMAND sh -c "rm -rf consumer-mrpt-build && '${CMAKE_COMMAND}' -S '${CMAKE_CURRENT_SOURCE_DIR}/install/consumer_mrpt' -B consumer-mrpt-build -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH='${ST_TEST_PREFIX}' ${_launcher} >/dev/null && '${CMAKE_COMMAND}' --build consumer-mrpt-build >/dev/null && LD_LIBRARY_PATH='${ST_TEST_PREFIX}/${CMAKE_INSTALL_LIBDIR}' consumer-mrpt-build/consumer_mrpt"
+         WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(install_mrpt_component PROPERTIES FIXTURES_REQUIRED st_installed LABELS install
+                     PASS_REGULAR_EXPRESSION "st::CObservationStarTracker round trip: tracking, 1 star")
 
 add_test(NAME install_consumer
          COMMAND sh -c "rm -rf consumer-build && '${CMAKE_COMMAND}' -S '${CMAKE_CURRENT_SOURCE_DIR}/install/consumer' -B consumer-build -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH='${ST_TEST_PREFIX}' ${_launcher} >/dev/null && '${CMAKE_COMMAND}' --build consumer-build >/dev/null && consumer-build/consumer '${_frames}'/*.tiff"
