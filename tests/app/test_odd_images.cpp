@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -175,6 +176,38 @@ TEST(OddImages, OneByNStripsAreRefused) {
   expectRefused(dir + "/column.png", "too small");
   ASSERT_TRUE(cv::imwrite(dir + "/tiny.png", cv::Mat(8, 8, CV_8UC1, cv::Scalar(10))));
   expectRefused(dir + "/tiny.png", "too small");
+}
+
+// A frame cut short (a partial download, a full disk) is refused naming the file, never
+// solved from the grey padding a decoder would fill in (libjpeg only warns of it). The
+// solve program decodes these formats itself (imageio/image_codecs.hpp).
+TEST(OddImages, CutImagesAreRefusedNamingTheFile) {
+  const std::string dir = test::makeTempDir("odd_cut");
+  const cv::Mat grey = realGrey();
+  // OpenCV writes a TIFF's directory after its strips: half of it has no directory.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {".jpg", "truncated"}, {".png", "truncated"}, {".tiff", "not a readable TIFF"}};
+  for (const auto& [ext, words] : cases) {
+    SCOPED_TRACE(ext);
+    const std::string whole = dir + "/" + kStamp + "_whole" + ext;
+    ASSERT_TRUE(cv::imwrite(whole, grey));
+    std::ifstream in(whole, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string cut = dir + "/" + kStamp + "_cut" + ext;
+    writeBytes(cut, bytes.substr(0, bytes.size() / 2));
+    expectRefused(cut, words);
+  }
+}
+
+// A format only OpenCV's imgcodecs reads (BMP) is handed to the program that links it: the
+// same answer as the PNG of the same pixels.
+TEST(OddImages, FormatsOnlyOpenCvReadsStillSolve) {
+  const std::string dir = test::makeTempDir("odd_bmp");
+  const cv::Mat grey = realGrey();
+  const std::string png = dir + "/" + kStamp + "_ref.png", bmp = dir + "/" + kStamp + "_ref.bmp";
+  ASSERT_TRUE(cv::imwrite(png, grey));
+  ASSERT_TRUE(cv::imwrite(bmp, grey));
+  expectSolvesLike(png, bmp, "");
 }
 
 TEST(OddImages, ColourIsConvertedToGreyAndSaysSo) {
