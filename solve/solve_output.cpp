@@ -205,9 +205,11 @@ void printSolutionText(const SolveReport& r) {
   std::printf("camera     %s (HFOV %.4f deg%s)\n", cam.describe().c_str(),
               rad2deg(cam.horizontalFov()), r.focal_fitted ? ", focal length fitted" : "");
   printCameraFitText(r);
-  std::printf("solved     %s + %s, %d hypotheses, %d FOV(s) tried, false-match P %.2e\n",
-              res.algorithm.c_str(), r.o.solver.c_str(), res.hypotheses_tried,
-              r.ps.search.fovs_tried, res.false_match_probability);
+  // FOVs are tried only in a search without a camera; with one the count says nothing.
+  const std::string fovs =
+      r.ps.search.fovs_tried > 0 ? ", " + std::to_string(r.ps.search.fovs_tried) + " FOVs tried" : "";
+  std::printf("solved     %s + %s, %d hypotheses%s, false-match P %.2e\n", res.algorithm.c_str(),
+              r.o.solver.c_str(), res.hypotheses_tried, fovs.c_str(), res.false_match_probability);
   std::printf("parity     %s%s\n", toString(r.ps.parity),
               r.ps.parity == Parity::Flipped ? " (image mirrored left-right; the attitude is "
                                                "the un-mirrored camera's)"

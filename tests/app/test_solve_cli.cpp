@@ -45,6 +45,19 @@ TEST(SolveCli, FovSearchWithoutCameraSolvesToo) {
   EXPECT_NEAR(jsonNumber(out, "dec_deg"), 11.0, 0.1);
 }
 
+// The text report counts FOVs only when it searched them: with --fov-deg there is nothing to
+// count ("0 FOV(s) tried" was printed before).
+TEST(SolveCli, TextReportCountsFovsOnlyForASearch) {
+  std::string with_fov, searched;
+  ASSERT_EQ(test::runCommand(test::startrackerExe() + " solve --fov-deg 11.4 '" + realFrame() +
+                                 "' 2>/dev/null", &with_fov), 0);
+  EXPECT_EQ(with_fov.find("FOVs tried"), std::string::npos) << with_fov;
+  EXPECT_EQ(with_fov.find("FOV(s)"), std::string::npos) << with_fov;
+  ASSERT_EQ(test::runCommand(test::startrackerExe() + " solve '" + realFrame() + "' 2>/dev/null",
+                             &searched), 0);
+  EXPECT_TRUE(std::regex_search(searched, std::regex("[1-9][0-9]* FOVs tried"))) << searched;
+}
+
 TEST(SolveCli, BlackFrameExitsOneWithAReason) {
   const std::string path = test::makeTempDir("solve") + "/black.png";
   cv::imwrite(path, cv::Mat::zeros(480, 640, CV_8UC1));
