@@ -46,6 +46,12 @@ struct DatabaseChoice {
   double ms = 0;
 };
 
+/// What solveFile chose from an image's header while the pixels were being decoded.
+struct Prepared {
+  CameraSearch cs;
+  DatabaseChoice db;
+};
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -119,10 +125,12 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFile(const std::string& path) co
       isStarList(path) || !o.dark_frame.empty() ? std::nullopt : imageio::probeImage(path);
   if (!probe) return solveInput(loadFrameInput(o), path, t_start);
   auto decoded = std::async(std::launch::async, [&o] { return loadFrameInput(o); });
-  std::optional<DatabaseChoice> early;
+  std::optional<Prepared> early;
   try {
-    const CameraSearch cs = cameraSearch(o, probe->width, probe->height);
-    early = database(o, cs, probe->width, probe->height, probe->epoch_jyear, probe->epoch_source);
+    CameraSearch cs = cameraSearch(o, probe->width, probe->height);
+    DatabaseChoice db =
+        database(o, cs, probe->width, probe->height, probe->epoch_jyear, probe->epoch_source);
+    early = Prepared{std::move(cs), std::move(db)};
   } catch (...) {
     early.reset();  // said again, in order, by the sequential path below
   }
@@ -203,16 +211,18 @@ DatabaseChoice PlateSolver::database(const SolveOptions& o, const CameraSearch& 
 
 std::unique_ptr<FrameOutcome> PlateSolver::solveInput(FrameInput in, const std::string& name,
                                                       Clock::time_point t_start,
-                                                      const DatabaseChoice* early) const {
+                                                      const Prepared* early) const {
   auto f = std::make_unique<FrameOutcome>();
   f->o = o_;
   f->o.input = name;
   f->in = std::move(in);
   const SolveOptions& o = f->o;
   const FrameInput& fin = f->in;
-  const CameraSearch cs = cameraSearch(o, fin.width, fin.height);
+  // The camera search and database chosen from the header when they were (solveFile), so
+  // that a camera file is not read again.
+  const CameraSearch cs = early ? early->cs : cameraSearch(o, fin.width, fin.height);
   const DatabaseChoice dbc =
-      early ? *early : database(o, cs, fin.width, fin.height, fin.epoch_jyear, fin.epoch_source);
+      early ? early->db : database(o, cs, fin.width, fin.height, fin.epoch_jyear, fin.epoch_source);
   f->db = dbc.db;
   const StarDatabase& db = *dbc.db;
   f->rep.reset(new SolveReport{o, fin, db, dbc.source, dbc.epoch, {}, {}, cs.fit_focal, {}, frame_});

@@ -45,6 +45,7 @@ nlohmann::ordered_json outcomeJson(const FrameOutcome& f);
 
 struct CameraSearch;    // plate_solver.cpp: the cameras a frame tries
 struct DatabaseChoice;  // plate_solver.cpp: its database, where from, at which epoch
+struct Prepared;        // plate_solver.cpp: both, chosen from an image's header
 
 class PlateSolver {
  public:
@@ -70,7 +71,7 @@ class PlateSolver {
  private:
   std::unique_ptr<FrameOutcome> solveInput(FrameInput in, const std::string& name,
                                            std::chrono::steady_clock::time_point t_start,
-                                           const DatabaseChoice* early = nullptr) const;
+                                           const Prepared* early = nullptr) const;
   DatabaseChoice database(const SolveOptions& o, const CameraSearch& cs, int width, int height,
                           const std::optional<double>& epoch_jyear,
                           const std::string& epoch_source) const;
