@@ -20,6 +20,11 @@ solve::SolveOptions stageOptions(const SolveOptions& o) {
   if (o.fov_deg && !(*o.fov_deg > 0 && *o.fov_deg < 180))
     throw InputError("fov_deg " + std::to_string(*o.fov_deg) + ": must be in (0, 180) deg");
   c.camera.fov_deg = o.fov_deg.value_or(0);
+  if (o.pixel_aspect) {
+    if (!(*o.pixel_aspect > 0))
+      throw InputError("pixel_aspect " + std::to_string(*o.pixel_aspect) + ": must be > 0");
+    c.camera.pixel_aspect = *o.pixel_aspect;
+  }
   c.fov_range_deg = {o.fov_min_deg, o.fov_max_deg};
   if (!o.algorithm.empty()) c.algorithm = o.algorithm;
   if (!o.solver.empty()) c.solver = o.solver;

@@ -16,6 +16,18 @@ void addCameraFlags(CLI::App& cmd, solve::CameraOptions& o) {
                  "the centre)")
       ->check(cli::Number(0.1, 179))
       ->excludes(cam);
+  auto* aspect = cmd.add_option("--pixel-aspect", o.pixel_aspect,
+                 "A pixel's height over its width on the sky, for an image without a camera "
+                 "file: 2 for rows binned 2x on board (fy = fx / A; the FOV search and the fit "
+                 "keep fx and fy apart)")
+      ->check(cli::Number(kMinPixelAspect, kMaxPixelAspect))
+      ->excludes(cam);
+  cmd.add_option("--binning", o.binning,
+                 "On-board binning BX BY (columns, rows): the same as --pixel-aspect BY/BX")
+      ->expected(2)
+      ->check(CLI::Range(1, 8))
+      ->excludes(cam)
+      ->excludes(aspect);
 }
 
 }  // namespace st::app

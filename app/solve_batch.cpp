@@ -55,6 +55,10 @@ int reportFrame(const FrameOutcome& f) {
     return f.code;
   }
   const SolveReport& rep = *f.rep;
+  if (log::verbose() && !rep.in.star_list) {
+    log::debug("%s: %zu detections, brightest first:", o.input.c_str(), rep.in.stars.size());
+    printDetections(rep.in);
+  }
   if (!rep.failure.empty()) {
     if (o.json) printJson(outcomeJson(f));
     log::error("%s: not solved: %s", o.input.c_str(), rep.failure.c_str());

@@ -65,8 +65,9 @@ st::api::SolveOptions solveOptions(std::optional<double> fov_deg, const std::str
                                    const std::string& parity, std::optional<double> ra,
                                    std::optional<double> dec, std::optional<double> radius,
                                    double cpulimit, const std::string& name, bool no_aberration,
-                                   bool no_cache) {
+                                   bool no_cache, std::optional<double> pixel_aspect) {
   st::api::SolveOptions o;
+  o.pixel_aspect = pixel_aspect;
   o.no_aberration = no_aberration;
   o.no_cache = no_cache;
   o.fov_deg = fov_deg;
@@ -167,11 +168,12 @@ PYBIND11_MODULE(_startracker, m) {
          const std::string& solver, double mag_limit, std::optional<double> epoch, int max_stars,
          const std::string& parity, std::optional<double> ra, std::optional<double> dec,
          std::optional<double> radius, double cpulimit, const std::string& name,
-         const st::api::Database* database, bool no_aberration, bool no_cache) {
+         const st::api::Database* database, bool no_aberration, bool no_cache,
+         std::optional<double> pixel_aspect) {
         const cv::Mat view = matView(image);
         const auto o = solveOptions(fov_deg, camera, fov_range, algorithm, solver, mag_limit,
                                     epoch, max_stars, parity, ra, dec, radius, cpulimit, name,
-                                    no_aberration, no_cache);
+                                    no_aberration, no_cache, pixel_aspect);
         st::api::SolveResult r;
         {
           py::gil_scoped_release nogil;
@@ -185,17 +187,19 @@ PYBIND11_MODULE(_startracker, m) {
       py::arg("max_stars") = 12, py::arg("parity") = "both", py::arg("ra") = py::none(),
       py::arg("dec") = py::none(), py::arg("radius") = py::none(), py::arg("cpulimit") = 0.0,
       py::arg("name") = "<array>", py::arg("database") = nullptr,
-      py::arg("no_aberration") = false, py::arg("no_cache") = false, solve_doc);
+      py::arg("no_aberration") = false, py::arg("no_cache") = false,
+      py::arg("pixel_aspect") = py::none(), solve_doc);
   m.def(
       "solve_file",
       [](const std::string& path, std::optional<double> fov_deg, const std::string& camera,
          std::pair<double, double> fov_range, const std::string& algorithm,
          const std::string& solver, double mag_limit, std::optional<double> epoch, int max_stars,
          const std::string& parity, const st::api::Database* database, bool no_aberration,
-         bool no_cache) {
+         bool no_cache, std::optional<double> pixel_aspect) {
         const auto o = solveOptions(fov_deg, camera, fov_range, algorithm, solver, mag_limit,
                                     epoch, max_stars, parity, std::nullopt, std::nullopt,
-                                    std::nullopt, 0, "<memory>", no_aberration, no_cache);
+                                    std::nullopt, 0, "<memory>", no_aberration, no_cache,
+                                    pixel_aspect);
         st::api::SolveResult r;
         {
           py::gil_scoped_release nogil;
@@ -207,7 +211,9 @@ PYBIND11_MODULE(_startracker, m) {
       py::arg("fov_range") = std::make_pair(5.0, 30.0), py::arg("algorithm") = "",
       py::arg("solver") = "", py::arg("mag_limit") = 6.6, py::arg("epoch") = py::none(),
       py::arg("max_stars") = 12, py::arg("parity") = "both", py::arg("database") = nullptr,
-      py::arg("no_aberration") = false, py::arg("no_cache") = false, "solve() on an image file; its epoch from DATE-OBS or the file name");
+      py::arg("no_aberration") = false, py::arg("no_cache") = false,
+      py::arg("pixel_aspect") = py::none(),
+      "solve() on an image file; its epoch from DATE-OBS or the file name");
 
   py::class_<st::api::Tracker>(m, "Tracker")
       .def(py::init([](int width, int height, std::optional<double> fov_deg,

@@ -30,10 +30,12 @@ PlateSolveResult identifyFrame(const SolveOptions& o, const std::vector<Centroid
   LostInSpaceCameras lis;
   lis.camera = cameras.fixed;
   if (cameras.fixed)
-    lis.policy = cameras.fit_focal ? CameraFitPolicy::approximateFov(0.01)
+    lis.policy = cameras.fit_focal
+                     ? CameraFitPolicy::approximateFov(0.01, cameras.fixed->pixelAspect())
                                    : CameraFitPolicy::cameraFile(*cameras.fixed);
   lis.fov_grid = cameras.grid;
   lis.scale_tol = cameras.scale_tol;
+  lis.pixel_aspect = cameras.pixel_aspect;
   return lostInSpace(stars, width, height, db, *identifier, lis, sigma_floor, parity, limits);
 }
 

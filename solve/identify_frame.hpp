@@ -20,6 +20,7 @@ struct CameraChoice {
   bool fit_focal;  ///< a FOV without a camera file is approximate: fit the focal length
   const std::vector<double>& grid;
   double scale_tol;
+  double pixel_aspect;  ///< of the grid's cameras
 };
 
 PlateSolveResult identifyFrame(const SolveOptions& o, const std::vector<Centroid>& stars,

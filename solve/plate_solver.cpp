@@ -36,6 +36,7 @@ struct CameraSearch {
   bool fit_focal = true;  ///< a FOV without a camera file is approximate: fit the focal length
   std::vector<double> grid;
   double scale_tol = 0.02;
+  double pixel_aspect = 1;  ///< of the grid's cameras (--pixel-aspect, --binning)
   double max_diag = 0;  ///< [rad] the widest image diagonal of the search
 };
 
@@ -73,7 +74,9 @@ CameraSearch cameraSearch(const SolveOptions& o, int w, int h) {
       o.fov_range_deg[1] < o.fov_range_deg[0])
     throw InputError("--fov-range needs MIN MAX in degrees with 0 < MIN <= MAX");
   cs.grid = fovSearchGrid(deg2rad(o.fov_range_deg[0]), deg2rad(o.fov_range_deg[1]), cs.scale_tol);
-  cs.max_diag = 2 * CameraModel::fromFov(w, h, cs.grid.back()).halfDiagonalFov() * (1 + cs.scale_tol);
+  cs.pixel_aspect = o.camera.pixelAspect(o.option_prefix);
+  cs.max_diag = 2 * CameraModel::fromFov(w, h, cs.grid.back(), cs.pixel_aspect).halfDiagonalFov() *
+                (1 + cs.scale_tol);
   return cs;
 }
 
@@ -86,7 +89,8 @@ double databaseEpoch(double jyear) { return std::round(jyear * 1000) / 1000; }
 PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const StarDatabase& db,
                           const CameraSearch& cs, Clock::time_point t_start) {
   return identifyFrame(o, in.stars, in.width, in.height, db,
-                       {cs.fixed, cs.fit_focal, cs.grid, cs.scale_tol}, o.positionHint(),
+                       {cs.fixed, cs.fit_focal, cs.grid, cs.scale_tol, cs.pixel_aspect},
+                       o.positionHint(),
                        o.parityChoice(), t_start);
 }
 
@@ -192,7 +196,8 @@ DatabaseChoice PlateSolver::database(const SolveOptions& o, const CameraSearch& 
     r.diagonal_fov_rad = cs.max_diag;
     // The finest pixel scale in the search: doubles unresolved at every FOV tried.
     r.pixel_scale_rad = cs.fixed ? cs.fixed->pixelScale()
-                                 : CameraModel::fromFov(width, height, cs.grid.front()).pixelScale();
+                                 : CameraModel::fromFov(width, height, cs.grid.front(),
+                                                        cs.pixel_aspect).pixelScale();
     r.mag_limit = o.mag_limit;
     r.epoch_jyear = databaseEpoch(dbc.epoch.jyear);
     // Built in the requested frame's annual part; an observer velocity is applied afterwards.

@@ -76,8 +76,10 @@ void requireSolvableFov(const SolveOptions& o, int w, int h) {
   }
   const auto& r = o.fov_range_deg;
   if (r.size() != 2 || !(r[0] > 0) || !(r[1] >= r[0])) return;  // cameraSearch says why
-  checkFov("--fov-range " + num(r[0]) + " " + num(r[1]), CameraModel::fromFov(w, h, deg2rad(r[1])),
-           CameraModel::fromFov(w, h, deg2rad(r[0])));
+  const double aspect = o.camera.pixelAspect(o.option_prefix);
+  checkFov("--fov-range " + num(r[0]) + " " + num(r[1]),
+           CameraModel::fromFov(w, h, deg2rad(r[1]), aspect),
+           CameraModel::fromFov(w, h, deg2rad(r[0]), aspect));
 }
 
 }  // namespace st::solve

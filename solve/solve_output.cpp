@@ -1,6 +1,7 @@
 #include "solve/solve_output.hpp"
 
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -11,6 +12,8 @@
 #include "common/log.hpp"
 #include "common/conventions.hpp"
 #include "sensors/identify/photometry.hpp"
+
+#include <Eigen/Eigenvalues>
 
 namespace st::solve {
 
@@ -189,6 +192,22 @@ void printJson(const nlohmann::ordered_json& j) {
   // Invalid UTF-8 in a file name must not abort the one line a script waits for.
   std::printf("%s\n", j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
   std::fflush(stdout);
+}
+
+void printDetections(const FrameInput& in, std::size_t n) {
+  std::fprintf(stderr, "  %3s %8s %8s %9s %7s %7s %5s %6s %6s %6s  %s\n", "#", "x [px]",
+               "y [px]", "flux", "peak", "SNR", "area", "s_maj", "s_min", "pk/flx", "flags");
+  for (std::size_t i = 0; i < in.stars.size() && i < n; ++i) {
+    const Centroid& c = in.stars[i];
+    // Sigma of the light along and across its long axis, from the blob's second moments.
+    const Eigen::SelfAdjointEigenSolver<Mat2> es(c.shape);
+    const double lo = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
+    const double hi = std::sqrt(std::max(es.eigenvalues()(1), 0.0));
+    std::fprintf(stderr, "  %3zu %8.2f %8.2f %9.1f %7.1f %7.1f %5d %6.2f %6.2f %6.3f  %s\n", i,
+                 c.px.x(), c.px.y(), c.flux, c.peak, c.snr, c.area, hi, lo,
+                 c.flux > 0 ? c.peak / c.flux : 0.0, centroidFlagNames(c.flags).c_str());
+  }
+  if (in.stars.size() > n) std::fprintf(stderr, "  ... %zu more\n", in.stars.size() - n);
 }
 
 void printSolutionText(const SolveReport& r) {

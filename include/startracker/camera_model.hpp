@@ -6,6 +6,7 @@
 /// Class invariant: fx, fy > 0, width, height > 0.
 #pragma once
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,7 +32,9 @@ class CameraModel {
 
   /// The common case: square pixels, principal point at the image centre
   /// ((w-1)/2, (h-1)/2), no distortion, horizontal field of view `hfov` [rad].
-  static CameraModel fromFov(int width, int height, double hfov);
+  /// `pixel_aspect` (a pixel's height over its width on the sky; 2 for rows binned 2x) makes
+  /// fy = fx / pixel_aspect.
+  static CameraModel fromFov(int width, int height, double hfov, double pixel_aspect = 1);
 
   /// OpenCV cv::FileStorage YAML/XML with the keys OpenCV's calibration writes:
   /// `camera_matrix` (3x3), `distortion_coefficients` (4, 5 or more; extra terms must be 0),
@@ -76,6 +79,8 @@ class CameraModel {
   double halfDiagonalFov() const;
   /// Mean angular size of a pixel near the centre [rad/px].
   double pixelScale() const { return 2.0 / (fx_ + fy_); }
+  /// A pixel's height over its width on the sky, fx / fy (1: square; 2: rows binned 2x).
+  double pixelAspect() const { return fx_ / fy_; }
 
   std::string describe() const;
 
@@ -88,6 +93,12 @@ class CameraModel {
   double fx_ = 0, fy_ = 0, cx_ = 0, cy_ = 0;
   Distortion dist_;
 };
+
+/// The pixel aspects taken (binning up to 8x in one direction).
+constexpr double kMinPixelAspect = 0.125, kMaxPixelAspect = 8;
+/// True for a pixel aspect (CameraModel::pixelAspect) within 0.1 % of 1: a camera calibrated
+/// with square pixels keeps them in every fit.
+inline bool hasSquarePixels(double pixel_aspect) { return std::abs(pixel_aspect - 1) < 1e-3; }
 
 /// Throws InputError naming the file when `path` is missing or a directory.
 void requireCameraFile(const std::string& path);

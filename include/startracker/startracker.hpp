@@ -93,6 +93,9 @@ struct SolveOptions {
   std::optional<double> fov_deg;       ///< horizontal FOV; none (and no camera_file) = search
   std::string camera_file;             ///< calibrated camera (OpenCV YAML/XML, MRPT .ini)
   std::string camera_section = "CAMERA";
+  /// A pixel's height over its width on the sky (2 for rows binned 2x), for a camera from
+  /// fov_deg or the FOV search; none = square pixels (a camera file states its own).
+  std::optional<double> pixel_aspect;
   double fov_min_deg = 5, fov_max_deg = 30;  ///< the FOV search range
   std::string algorithm;               ///< lost-in-space identifier ("" = the default)
   std::string solver;                  ///< Wahba solver ("" = the default)

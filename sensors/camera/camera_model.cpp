@@ -32,12 +32,15 @@ void CameraModel::validate(const std::string& source) const {
     if (!std::isfinite(k)) bad("distortion coefficients must be finite");
 }
 
-CameraModel CameraModel::fromFov(int width, int height, double hfov) {
+CameraModel CameraModel::fromFov(int width, int height, double hfov, double pixel_aspect) {
   if (!(hfov > 0) || !(hfov < kPi))
     throw InputError("field of view must be in (0, 180) deg, got " +
                      std::to_string(rad2deg(hfov)) + " deg");
+  if (!(pixel_aspect >= kMinPixelAspect && pixel_aspect <= kMaxPixelAspect))
+    throw InputError("pixel aspect must be in [" + std::to_string(kMinPixelAspect) + ", " +
+                     std::to_string(kMaxPixelAspect) + "], got " + std::to_string(pixel_aspect));
   const double f = 0.5 * width / std::tan(0.5 * hfov);
-  return CameraModel(width, height, f, f, 0.5 * (width - 1), 0.5 * (height - 1));
+  return CameraModel(width, height, f, f / pixel_aspect, 0.5 * (width - 1), 0.5 * (height - 1));
 }
 
 // OpenCV's distortion model (cv::projectPoints documentation).

@@ -4,6 +4,7 @@
 /// identification and tracking as weighted observations.
 #pragma once
 #include <cstdint>
+#include <string>
 
 #include "common/attitude.hpp"
 
@@ -21,7 +22,14 @@ enum CentroidFlag : uint32_t {
   /// well above their median; full-frame detection): a lamp, a lit window, a mottled
   /// foreground's bright patch. Kept, but ranked after the point-like stars.
   kDiffuse = 32,
+  /// Sharper than this frame's PSF (a radiation hit: a charged particle's charge in one to a
+  /// few pixels, no optics in between), or a short sharp track (full-frame detection). Kept,
+  /// but ranked after every star and never used to build a lost-in-space pattern.
+  kRadiationHit = 64,
 };
+
+/// "saturated,hit" and the like: the set flags' short names, "-" for none.
+std::string centroidFlagNames(uint32_t flags);
 
 struct Centroid {
   Vec2 px = Vec2::Zero();      ///< [px] position, conventions.hpp pixel convention

@@ -10,10 +10,11 @@ namespace st {
 
 CameraFitPolicy CameraFitPolicy::fixed() { return {}; }
 
-CameraFitPolicy CameraFitPolicy::approximateFov(double scale_tolerance) {
+CameraFitPolicy CameraFitPolicy::approximateFov(double scale_tolerance, double pixel_aspect) {
   CameraFitPolicy p;
   p.scale_tolerance = scale_tolerance;
   p.fit_focal = true;
+  p.fit_aspect = !hasSquarePixels(pixel_aspect);
   p.radial_terms = 2;
   return p;
 }
@@ -21,6 +22,7 @@ CameraFitPolicy CameraFitPolicy::approximateFov(double scale_tolerance) {
 CameraFitPolicy CameraFitPolicy::cameraFile(const CameraModel& cam) {
   CameraFitPolicy p;
   p.fit_focal = true;
+  p.fit_aspect = !hasSquarePixels(cam.pixelAspect());
   p.radial_terms = 2;
   // A datasheet focal length is good to 1-2 %; a star-tracker lens's radial terms are below
   // ~0.5 in normalised units. Both are priors, not bounds: the stars overrule them.
@@ -49,6 +51,7 @@ CameraFitResult fitCameraToStars(const CameraModel& cam, const FrameStars& stars
                                  const CameraFitPolicy& policy) {
   CameraFitSpec spec;
   spec.focal = policy.fit_focal;
+  spec.aspect = policy.fit_focal && policy.fit_aspect;
   spec.radial_terms = policy.radial_terms;
   // The nested models (no radial term, k1, k1 + k2) are relative to the reference terms (the
   // camera file's, else none), not to whatever an earlier round fitted: otherwise terms once

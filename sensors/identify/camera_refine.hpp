@@ -19,6 +19,10 @@ struct CameraFitPolicy {
   /// Slack of the first (candidate) pass: the relative focal-length error it tolerates.
   double scale_tolerance = 0;
   bool fit_focal = false;  ///< refit the focal length from the matches
+  /// and fx, fy apart (needs fit_focal): for non-square pixels, whose aspect on the sky a
+  /// binning factor gives only nominally (the Swarm heads' 2x-binned rows are 1.93x taller
+  /// than wide, measured on the sky)
+  bool fit_aspect = false;
   int radial_terms = 0;    ///< and up to this many radial terms, where the stars support them
   std::optional<CameraPrior> prior;  ///< how far the given camera is trusted
   /// A camera file: identified as it is first; when that fails, again with scale slack at
@@ -29,9 +33,11 @@ struct CameraFitPolicy {
   bool refines() const { return fit_focal || radial_terms > 0; }
   /// The camera is right: identify with it as it is.
   static CameraFitPolicy fixed();
-  /// An approximate field of view (--fov-deg, the FOV search): focal length, k1 and k2 free.
-  static CameraFitPolicy approximateFov(double scale_tolerance);
-  /// A camera file: trusted first, healed when it fails, its discrepancy measured always.
+  /// An approximate field of view (--fov-deg, the FOV search): focal length, k1 and k2 free;
+  /// fx and fy apart when the pixels are not square (pixel_aspect != 1).
+  static CameraFitPolicy approximateFov(double scale_tolerance, double pixel_aspect = 1);
+  /// A camera file: trusted first, healed when it fails, its discrepancy measured always;
+  /// fx and fy apart when its pixels are not square.
   static CameraFitPolicy cameraFile(const CameraModel& cam);
 };
 

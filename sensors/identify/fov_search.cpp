@@ -174,7 +174,7 @@ FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int w
                                    StarIdentifier& identifier,
                                    const std::vector<double>& hfov_grid,
                                    double scale_tolerance, double min_sigma_px,
-                                   const SearchLimits& limits) {
+                                   const SearchLimits& limits, double pixel_aspect) {
   const auto t0 = std::chrono::steady_clock::now();
   FovSearchResult out;
   for (double hfov : hfov_grid) {
@@ -183,12 +183,13 @@ FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int w
       break;
     }
     // The database must hold pairs across the whole image of this FOV.
-    const CameraModel cam = CameraModel::fromFov(width, height, hfov);
+    const CameraModel cam = CameraModel::fromFov(width, height, hfov, pixel_aspect);
     if (2 * cam.halfDiagonalFov() * (1 - scale_tolerance) > db.params().max_pair_angle) break;
     ++out.fovs_tried;
     FovSearchResult r =
         identifyAndFit(centroids, cam, db, identifier,
-                       CameraFitPolicy::approximateFov(scale_tolerance), min_sigma_px, limits);
+                       CameraFitPolicy::approximateFov(scale_tolerance, pixel_aspect),
+                       min_sigma_px, limits);
     const bool solved = r.result.solved();
     out.cpu_limit_reached = r.cpu_limit_reached;
     if (!r.refused.empty()) out.refused = r.refused;

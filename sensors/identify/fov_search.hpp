@@ -54,14 +54,17 @@ struct FovSearchResult {
   bool healed = false;        ///< the given camera failed; a refined one solved
 };
 
-/// `identifier` options are used as given except scale_tolerance (set per try).
+/// `identifier` options are used as given except scale_tolerance (set per try). The grid's
+/// cameras have pixels `pixel_aspect` times taller than wide (fy = fx / pixel_aspect), and
+/// their fit keeps fx and fy apart when that is not 1.
 /// `min_sigma_px` floors the centroid sigma (toStarObservations): on a real image with an
 /// approximate camera the model error (distortion, focal length) dominates the noise.
 FovSearchResult identifyUnknownFov(const std::vector<Centroid>& centroids, int width,
                                    int height, const StarDatabase& db,
                                    StarIdentifier& identifier,
                                    const std::vector<double>& hfov_grid, double scale_tolerance,
-                                   double min_sigma_px = 0.02, const SearchLimits& limits = {});
+                                   double min_sigma_px = 0.02, const SearchLimits& limits = {},
+                                   double pixel_aspect = 1);
 
 /// Identify with a camera as `policy` allows: as it is (fixed), or a candidate with scale
 /// slack whose matches fit the camera (rounds of fit -> re-match), then the strict

@@ -75,7 +75,7 @@ PlateSolveResult lostInSpace(const std::vector<Centroid>& centroids, int width, 
       return identifyAndFit(s, *cameras.camera, db, identifier, cameras.policy, sigma_floor_px,
                             limits);
     return identifyUnknownFov(s, width, height, db, identifier, cameras.fov_grid,
-                              cameras.scale_tol, sigma_floor_px, limits);
+                              cameras.scale_tol, sigma_floor_px, limits, cameras.pixel_aspect);
   };
   return solveBothParities(centroids, width, parity, limits, search);
 }

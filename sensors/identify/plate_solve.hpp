@@ -67,6 +67,7 @@ struct LostInSpaceCameras {
   CameraFitPolicy policy = CameraFitPolicy::fixed();
   std::vector<double> fov_grid;  ///< [rad] when there is no camera
   double scale_tol = 0.02;
+  double pixel_aspect = 1;  ///< of the grid's cameras: fy = fx / pixel_aspect
 };
 
 /// The one lost-in-space driver, used by `solve` (solve/identify_frame.cpp) and by the
