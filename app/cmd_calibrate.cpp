@@ -70,9 +70,12 @@ std::vector<std::string> imageFiles(const std::vector<std::string>& inputs) {
 std::shared_ptr<const StarDatabase> database(const CalibrateOptions& o, int w, int h, double epoch) {
   if (!o.database.empty()) return std::make_shared<const StarDatabase>(StarDatabase::load(o.database));
   CameraDatabaseRecipe r;
-  const CameraModel widest = o.camera.given() ? o.camera.resolve(w, h)
-                                              : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[1]));
-  const CameraModel finest = o.camera.given() ? widest : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[0]));
+  const double aspect = o.camera.pixelAspect();
+  const CameraModel widest = o.camera.given()
+                                 ? o.camera.resolve(w, h)
+                                 : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[1]), aspect);
+  const CameraModel finest =
+      o.camera.given() ? widest : CameraModel::fromFov(w, h, deg2rad(o.fov_range_deg[0]), aspect);
   r.diagonal_fov_rad = 2 * widest.halfDiagonalFov() * 1.05;
   r.pixel_scale_rad = finest.pixelScale();
   r.mag_limit = o.mag_limit;
@@ -100,16 +103,18 @@ std::optional<SolvedFrame> solveFrame(const std::string& file, const cv::Mat& im
   constexpr double kFloorPx = 0.1;
   FovSearchResult r;
   if (known)
-    r = identifyAndFit(det.stars, *known, db, identifier, CameraFitPolicy::approximateFov(0.01), kFloorPx);
+    r = identifyAndFit(det.stars, *known, db, identifier,
+                       CameraFitPolicy::approximateFov(0.01, known->pixelAspect()), kFloorPx);
   else if (o.camera.given())
     r = identifyAndFit(det.stars, o.camera.resolve(image.cols, image.rows), db, identifier,
-                       o.camera.camera_file.empty() ? CameraFitPolicy::approximateFov(0.01)
+                       o.camera.camera_file.empty()
+                           ? CameraFitPolicy::approximateFov(0.01, o.camera.pixelAspect())
                                                     : CameraFitPolicy::cameraFile(o.camera.resolve(image.cols, image.rows)),
                        kFloorPx);
   else
     r = identifyUnknownFov(det.stars, image.cols, image.rows, db, identifier,
                            fovSearchGrid(deg2rad(o.fov_range_deg[0]), deg2rad(o.fov_range_deg[1]), 0.02),
-                           0.02, kFloorPx);
+                           0.02, kFloorPx, {}, o.camera.pixelAspect());
   if (!r.result.solved()) {
     log::warn("%s: skipped: not solved: %s", file.c_str(), r.result.reason.c_str());
     return std::nullopt;
@@ -157,6 +162,19 @@ void printReport(const std::vector<SolvedFrame>& solved, const CameraFitResult& 
   line("fx", kFx), line("fy", kFy), line("cx", kCx), line("cy", kCy), line("k1", kK1), line("k2", kK2);
   std::printf("  radial terms the stars support: %d; HFOV %.4f deg\n", fit.spec.radial_terms,
               rad2deg(fit.camera.horizontalFov()));
+  // fx / fy and its 1-sigma from the fit's covariance (first-order propagation).
+  if (fit.spec.aspect) {
+    const double a = fit.theta[kFx] / fit.theta[kFy];
+    const double rx = fit.sigma(kFx) / fit.theta[kFx], ry = fit.sigma(kFy) / fit.theta[kFy];
+    const double rho = fit.sigma(kFx) > 0 && fit.sigma(kFy) > 0
+                           ? fit.cov(kFx, kFy) / (fit.sigma(kFx) * fit.sigma(kFy)) : 0;
+    const double sa = a * std::sqrt(std::max(0.0, rx * rx + ry * ry - 2 * rho * rx * ry));
+    const bool departs = std::abs(a - 1) > std::max(3 * sa, 1e-3);
+    std::printf("  pixel aspect fx/fy %.5f +- %.5f%s\n", a, sa,
+                departs ? ": the pixels are not square on the sky (binned rows or columns, or "
+                          "an anamorphic lens); fx and fy are fitted apart"
+                        : " (square within the fit)");
+  }
 }
 
 int runCalibrate(const CalibrateOptions& o) {

@@ -56,7 +56,10 @@ int reportFrame(const FrameOutcome& f) {
   }
   const SolveReport& rep = *f.rep;
   if (log::verbose() && !rep.in.star_list) {
-    log::debug("%s: %zu detections, brightest first:", o.input.c_str(), rep.in.stars.size());
+    log::debug("%s: %zu detections (%d radiation hits, ranked last; %zu blobs rejected), PSF "
+               "three-pixel width %.2f px along x, %.2f px along y; brightest first:",
+               o.input.c_str(), rep.in.stars.size(), rep.in.hits, rep.in.rejected.size(),
+               rep.in.psf_width_x, rep.in.psf_width_y);
     printDetections(rep.in);
   }
   if (!rep.failure.empty()) {

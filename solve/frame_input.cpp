@@ -76,6 +76,10 @@ FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, cons
   in.detect_ms = msSince(t0);
   in.stars = std::move(det.stars);
   in.detection_reason = det.reason;
+  in.psf_width_x = det.psf_width_x;
+  in.psf_width_y = det.psf_width_y;
+  in.hits = det.hits;
+  in.rejected = std::move(det.rejected_blobs);
   in.image = image;  // a header: the caller's pixels, or the loaded image's
   return in;
 }

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "sensors/detect/centroid.hpp"
+#include "sensors/detect/star_detector.hpp"
 
 namespace st::solve {
 
@@ -20,6 +21,11 @@ struct FrameInput {
   int width = 0, height = 0;
   std::vector<Centroid> stars;  ///< brightest first
   std::string detection_reason;  ///< why detection found nothing usable ("" = fine)
+  /// Detection's view of the frame (an image's; star lists have none): the PSF's three-pixel
+  /// width along x and y it measured, the radiation hits it flagged, the blobs it dropped.
+  double psf_width_x = 0, psf_width_y = 0;
+  int hits = 0;
+  std::vector<DetectionResult::Rejected> rejected;
   std::optional<double> epoch_jyear;
   std::string epoch_source;
   double load_ms = 0, detect_ms = 0;

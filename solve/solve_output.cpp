@@ -133,9 +133,20 @@ nlohmann::ordered_json starsJson(const SolveReport& r, const Photometry& p) {
 
 }  // namespace
 
+/// RA/Dec [rad] of the image's centre pixel ((w-1)/2, (h-1)/2): the boresight is the
+/// principal point's direction, which a calibrated camera puts elsewhere. The centre is its
+/// own mirror image, so a flipped solution's un-mirrored camera gives it too.
+static void imageCentreRaDec(const SolveReport& r, double& ra, double& dec) {
+  const CameraModel& cam = r.ps.search.camera;
+  const Vec2 centre(0.5 * (r.in.width - 1), 0.5 * (r.in.height - 1));
+  raDecFromVector(r.ps.search.result.q_ic * cam.pixelToVector(centre), ra, dec);
+}
+
 nlohmann::ordered_json solutionJson(const SolveReport& r) {
   const IdentifyResult& res = r.ps.search.result;
   const RaDecRoll rdr = raDecRollFromAttitude(res.q_ic);
+  double centre_ra = 0, centre_dec = 0;
+  imageCentreRaDec(r, centre_ra, centre_dec);
   const AttitudeSigma sig = attitudeSigma(res.cov_cam);
   const Quat q = canonical(res.q_ic);  // no mounting: the body frame is the camera frame
   nlohmann::ordered_json cov = nlohmann::ordered_json::array();
@@ -144,7 +155,8 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
   nlohmann::ordered_json j = {
       {"solved", true}, {"image", r.o.input}, {"input", r.in.star_list ? "star list" : "image"},
       {"parity", toString(r.ps.parity)}, {"ra_deg", rad2deg(rdr.ra)}, {"dec_deg", rad2deg(rdr.dec)},
-      {"roll_deg", rad2deg(rdr.roll)}, {"q_ib", {q.w(), q.x(), q.y(), q.z()}}, {"covariance", cov},
+      {"roll_deg", rad2deg(rdr.roll)}, {"centre_ra_deg", rad2deg(centre_ra)},
+      {"centre_dec_deg", rad2deg(centre_dec)}, {"q_ib", {q.w(), q.x(), q.y(), q.z()}}, {"covariance", cov},
       {"sigma_cross_boresight_arcsec", rad2arcsec(sig.cross_boresight)},
       {"sigma_roll_arcsec", rad2arcsec(sig.roll)},
       {"hfov_deg", rad2deg(r.ps.search.camera.horizontalFov())}, {"algorithm", res.algorithm},
@@ -237,6 +249,10 @@ void printSolutionText(const SolveReport& r) {
   std::printf("frame      %s\n", r.frame.describe(r.epoch.jyear).c_str());
   std::printf("boresight  RA %.5f deg  Dec %+.5f deg  roll %.5f deg\n", rad2deg(rdr.ra),
               rad2deg(rdr.dec), rad2deg(rdr.roll));
+  double centre_ra = 0, centre_dec = 0;
+  imageCentreRaDec(r, centre_ra, centre_dec);
+  std::printf("centre     RA %.5f deg  Dec %+.5f deg (the image's centre pixel)\n",
+              rad2deg(centre_ra), rad2deg(centre_dec));
   std::printf("1-sigma    cross-boresight %.2f arcsec, roll %.2f arcsec\n",
               rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll));
   std::printf("residual   RMS %.2f arcsec = %.3f px over %zu stars\n", rad2arcsec(res.rms_residual),

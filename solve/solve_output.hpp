@@ -2,7 +2,9 @@
 /// What `solve` prints: the text report, or with --json exactly one JSON object on stdout
 /// (built with nlohmann::ordered_json, so any file name or message is escaped). JSON schema:
 ///  - solved (exit 0): {"solved": true, "image", "input": "image"|"star list", "parity":
-///    "normal"|"flipped", "ra_deg", "dec_deg", "roll_deg", "q_ib": [w,x,y,z], "covariance"
+///    "normal"|"flipped", "ra_deg", "dec_deg", "roll_deg" (of the
+///    boresight: the principal point), "centre_ra_deg", "centre_dec_deg" (of the image's
+///    centre pixel), "q_ib": [w,x,y,z], "covariance"
 ///    (3x3, rad^2, camera frame), "sigma_cross_boresight_arcsec", "sigma_roll_arcsec",
 ///    "hfov_deg", "algorithm", "solver", "stars_detected", "stars_matched",
 ///    "rms_residual_arcsec", "rms_residual_px", "false_match_probability",

@@ -8,6 +8,7 @@
 #include "common/check.hpp"
 #include "sensors/detect/detect_internal.hpp"
 #include "sensors/detect/prefilter.hpp"
+#include "sensors/detect/radiation_hits.hpp"
 
 namespace st::detect_detail {
 namespace {
@@ -36,6 +37,15 @@ double borderLevel(const cv::Mat& grey, const cv::Rect& r, std::vector<float>& b
   return level;
 }
 
+// At most this many rejected blobs are listed (a picture of a failed frame needs no more).
+constexpr std::size_t kMaxListedRejected = 2000;
+
+void listRejected(DetectionResult& res, const Blob& bl, uint32_t flags) {
+  ++res.rejected;
+  if (res.rejected_blobs.size() < kMaxListedRejected)
+    res.rejected_blobs.push_back({Vec2(bl.peak.x, bl.peak.y), bl.area, flags});
+}
+
 // Blobs of an accepted area, ranked by the significance of their peak above the local
 // background, in local noise sigmas (most significant first). Not by total flux: a lit
 // foreground, a glow or a skyline's edge holds far more light than any star, in a blob that
@@ -48,7 +58,7 @@ void rankCandidates(const DetectorOptions& opts, Scratch& s, DetectionResult& re
   for (std::size_t i = 0; i < blobs.size(); ++i) {
     const Blob& bl = blobs[i];
     if (bl.area < opts.min_area || bl.area > opts.max_area) {
-      ++res.rejected;
+      listRejected(res, bl, 0);
       continue;
     }
     const double x = bl.peak.x, y = bl.peak.y;
@@ -190,6 +200,25 @@ double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, do
   return std::min(opts.max_psf_sigma_px, 2 * *mid + 0.5);
 }
 
+// The frame's PSF along x and y (radiation_hits.hpp): the median three-pixel width of its most
+// significant unclipped blobs clear of the edge.
+void framePsf(const cv::Mat& grey, Scratch& s, double sat, DetectionResult& res) {
+  const BackgroundModel& bg = s.background;
+  const std::vector<Blob>& blobs = s.labeller.blobs();
+  thread_local std::vector<double> wx, wy;
+  wx.clear(), wy.clear();
+  for (std::size_t i = 0; i < s.candidates.size() && static_cast<int>(wx.size()) < kMaxPsfBlobs; ++i) {
+    const Blob& c = blobs[static_cast<std::size_t>(s.candidates[i].blob)];
+    const double b = bg.levelAt(c.peak.x, c.peak.y);
+    if (c.peak_raw >= sat || c.peak_raw - b < kPsfSettingPeakSigma * bg.sigmaAt(c.peak.x, c.peak.y))
+      continue;
+    const AxisWidth w = profileWidth(grey, c.peak.x, c.peak.y, b);
+    wx.push_back(w.x), wy.push_back(w.y);
+  }
+  res.psf_width_x = s.frame_psf_x = medianWidth(wx);
+  res.psf_width_y = s.frame_psf_y = medianWidth(wy);
+}
+
 // What a star of this frame looks like, from the median m of flux over peak pixel of its
 // well-measured unclipped stars (m = 2 pi s^2 for a Gaussian PSF of sigma s):
 //  - flux over peak: an undersampled PSF (the tetra3 frames: s ~ 0.7 px) puts from 1/4 to
@@ -246,9 +275,13 @@ void sortBrightestFirst(std::vector<Centroid>& stars) {
   std::size_t elongated = 0;
   for (const Centroid& c : stars) elongated += (c.flags & kElongated) != 0;
   const uint32_t demoted = kDiffuse | (2 * elongated < stars.size() ? kElongated : 0u);
-  const auto before = [demoted](const Centroid& a, const Centroid& b) {
-    const bool ea = (a.flags & demoted) != 0, eb = (b.flags & demoted) != 0;
-    return ea != eb ? eb : a.flux > b.flux;
+  // Radiation hits after everything else: the stars' prefix is what lost-in-space takes.
+  const auto rank = [demoted](const Centroid& c) {
+    return (c.flags & kRadiationHit) ? 2 : (c.flags & demoted) ? 1 : 0;
+  };
+  const auto before = [&rank](const Centroid& a, const Centroid& b) {
+    const int ra = rank(a), rb = rank(b);
+    return ra != rb ? ra < rb : a.flux > b.flux;
   };
   for (std::size_t i = 1; i < stars.size(); ++i)
     for (std::size_t j = i; j > 0 && before(stars[j], stars[j - 1]); --j)
@@ -265,6 +298,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
   rankCandidates(opts, s, res);
   const std::vector<Candidate>& cands = s.candidates;
   const double psf_lim = psfLimit<T>(grey, opts, s, sat);
+  if (opts.flag_hits) framePsf(grey, s, sat, res);
   double top = 0;  // the frame's highest value above the threshold: the clip, if any clipped
   for (const Blob& c : blobs) top = std::max(top, c.peak_raw);
   top = std::min(top, sat);
@@ -285,7 +319,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
                                      c.y1 - c.y0 + 1 + 2 * m) & cv::Rect(0, 0, grey.cols, grey.rows);
       b = borderLevel<T>(grey, ring, s.ring);
       if (c.peak_raw - b < opts.threshold_sigma * sb) {
-        ++res.rejected;
+        listRejected(res, c, 0);
         continue;
       }
     }
@@ -298,7 +332,7 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
     Centroid star;
     if ((flags & opts.reject_flags) ||
         !centroidBlob<T>(grey, c, mom, b, sb, sat, psf, opts, main, cog, s, star)) {
-      ++res.rejected;
+      listRejected(res, c, flags & opts.reject_flags);
       continue;
     }
     // Light spread far beyond a PSF around a low peak (a foreground's edge, a glow's rim): the
@@ -308,9 +342,16 @@ void measureBlobs(const cv::Mat& grey, const DetectorOptions& opts, const Centro
         star.flux > 2 * M_PI * psf_lim * psf_lim * star.peak) {
       flags |= kExtended;
       if (flags & opts.reject_flags) {
-        ++res.rejected;
+        listRejected(res, c, flags & opts.reject_flags);
         continue;
       }
+    }
+    // Sharper than the frame's stars along x or y even with the noise's benefit of the doubt.
+    if (opts.flag_hits &&
+        sharperThanPsf(peakProfile(grey, c.peak.x, c.peak.y, b), sb, res.psf_width_x,
+                       res.psf_width_y)) {
+      flags |= kRadiationHit;
+      ++res.hits;
     }
     star.area = c.area;
     star.flags = flags;
@@ -343,7 +384,9 @@ void detectFrame(const cv::Mat& grey, const DetectorOptions& opts, const Centroi
   res.stars.clear();  // keeps its capacity
   res.reason.clear();
   res.background = res.noise_sigma = 0;
-  res.blobs_found = res.rejected = res.duplicates = 0;
+  res.blobs_found = res.rejected = res.duplicates = res.hits = 0;
+  res.psf_width_x = res.psf_width_y = 0;
+  res.rejected_blobs.clear();
   estimateBackground(grey, opts.background_tile_px, opts.background_samples,
                      opts.read_noise_adu, s.background);
   const BackgroundModel& bg = s.background;

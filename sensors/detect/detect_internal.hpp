@@ -47,6 +47,9 @@ struct Scratch {
   cv::Mat dark_subtracted;  ///< input minus the dark frame
   cv::Mat mask;             ///< candidate pixels for the pre-filters or a gradient
   cv::Mat threshold_map;    ///< per-pixel threshold of a background with a gradient
+  /// [px] the PSF's three-pixel width along x and y the last full-frame detection measured
+  /// (0 = unknown): what a tracking window's peak is tested against (radiation_hits.hpp)
+  double frame_psf_x = 0, frame_psf_y = 0;
 };
 
 /// `grey`: a one-channel 8/16-bit view of the input, or of its conversion into `converted`

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sensors/detect/detect_internal.hpp"
+#include "sensors/detect/radiation_hits.hpp"
 
 namespace st::detect_detail {
 
@@ -196,6 +197,15 @@ void centroidWindow(const cv::Mat& grey, const PredictedStar& p, const DetectorO
   ws.blur = p.blur_px.norm();
   ws.thr = ws.b + opts.threshold_sigma * ws.sb;
   ws.streak = ws.blur > 2.0 * ws.psf0;
+  // A radiation hit brighter than the star (or in place of a star not there) is refused by
+  // its shape against the PSF the last full frame measured; with none measured, the gate
+  // alone refuses it.
+  if (opts.flag_hits && !ws.streak &&
+      sharperThanPsf(peakProfile(grey, ws.pk.x, ws.pk.y, ws.b), ws.sb, s.frame_psf_x,
+                     s.frame_psf_y)) {
+    w.reason = "radiation hit at the window's peak";
+    return;
+  }
   ws.trust_prediction = ws.streak && 3.0 * largestSigma(p.cov_px) <= ws.psf0 + 0.25 * ws.blur;
   int area = 0;
   Moments mom;

@@ -80,6 +80,12 @@ struct DetectorOptions {
   /// Flags that remove a star instead of only marking it. Elongated is off by default since
   /// stars are streaks by design during slews.
   uint32_t reject_flags = kHotPixel | kTouchesEdge | kExtended;
+  /// Radiation hits (kRadiationHit, full-frame detection): a blob sharper than this frame's
+  /// stars along some direction (its peak over its neighbours beyond what the PSF measured on
+  /// the frame's star-like blobs allows) is charge deposited by a particle, not light through
+  /// the optics. Flagged hits are kept but ranked after every star (lost-in-space never builds
+  /// a pattern on one; see radiation_hits.hpp); false turns the rule off.
+  bool flag_hits = true;
 
   // --- centroiding ---
   std::string centroider = "gauss";  ///< "cog", "iwc" or "gauss" (see centroider.hpp)

@@ -37,6 +37,19 @@ struct DetectionResult {
   int rejected = 0;             ///< blobs dropped (area, reject_flags, failed centroid)
   int duplicates = 0;           ///< centroids dropped as the same star as a brighter one
   double threshold_sigma = 0;   ///< k of this detection (threshold_mode dynamic: it varies)
+  int hits = 0;                 ///< stars flagged kRadiationHit (kept, ranked last)
+  /// [px] the frame's PSF along columns (x) and rows (y): the median three-pixel Gaussian
+  /// width of its most significant unclipped blobs (radiation_hits.hpp; 0 when too few
+  /// tell), what the hit rule compares with
+  double psf_width_x = 0, psf_width_y = 0;
+  /// The blobs the filters dropped (area, reject_flags, no centroid), for pictures of why a
+  /// frame failed: where, how large, which flags (0 when none explains it).
+  struct Rejected {
+    Vec2 px = Vec2::Zero();
+    int area = 0;
+    uint32_t flags = 0;
+  };
+  std::vector<Rejected> rejected_blobs;
 };
 
 

@@ -146,9 +146,22 @@ FovSearchResult identifyAndFit(const std::vector<Centroid>& centroids, const Cam
     out = candidateAndRefine(centroids, cam, db, identifier, CameraFitPolicy::fixed(), 0,
                              min_sigma_px);
     const std::string as_is = out.result.reason;
-    for (double f : out.result.solved() ? std::vector<double>{} : healFactors(policy.heal_range, kHealStep)) {
+    // Square pixels: fx and fy scaled together. Non-square (binned) ones: their aspect is
+    // only nominal, so fx and fy are scaled apart, the pairs nearest the file's first.
+    std::vector<std::pair<double, double>> factors;
+    const std::vector<double> fs = healFactors(policy.heal_range, kHealStep);
+    for (double fx : fs)
+      for (double fy : policy.fit_aspect ? fs : std::vector<double>{fx}) factors.push_back({fx, fy});
+    std::stable_sort(factors.begin(), factors.end(), [](const auto& a, const auto& b) {
+      const auto d = [](const std::pair<double, double>& f) {
+        return std::abs(std::log(f.first)) + std::abs(std::log(f.second));
+      };
+      return d(a) < d(b);
+    });
+    if (out.result.solved()) factors.clear();
+    for (const auto& [fx, fy] : factors) {
       if (limits.expired()) break;
-      const CameraModel scaled(cam.width(), cam.height(), cam.fx() * f, cam.fy() * f, cam.cx(),
+      const CameraModel scaled(cam.width(), cam.height(), cam.fx() * fx, cam.fy() * fy, cam.cx(),
                                cam.cy(), cam.distortion());
       FovSearchResult h =
           candidateAndRefine(centroids, scaled, db, identifier, policy, kHealSlack, min_sigma_px);

@@ -70,6 +70,16 @@ PlateSolveResult lostInSpace(const std::vector<Centroid>& centroids, int width, 
                              const StarDatabase& db, StarIdentifier& identifier,
                              const LostInSpaceCameras& cameras, double sigma_floor_px,
                              ParityChoice parity, const SearchLimits& limits) {
+  // Never a pattern (nor a verification star) on a radiation hit: detection ranks them after
+  // every star, so the stars are the prefix before the first and their indices stay.
+  std::size_t n_stars = 0;
+  while (n_stars < centroids.size() && !(centroids[n_stars].flags & kRadiationHit)) ++n_stars;
+  if (n_stars < centroids.size()) {
+    const std::vector<Centroid> stars(centroids.begin(),
+                                      centroids.begin() + static_cast<std::ptrdiff_t>(n_stars));
+    return lostInSpace(stars, width, height, db, identifier, cameras, sigma_floor_px, parity,
+                       limits);
+  }
   const CentroidSearch search = [&](const std::vector<Centroid>& s) {
     if (cameras.camera)
       return identifyAndFit(s, *cameras.camera, db, identifier, cameras.policy, sigma_floor_px,

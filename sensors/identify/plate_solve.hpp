@@ -73,7 +73,9 @@ struct LostInSpaceCameras {
 /// The one lost-in-space driver, used by `solve` (solve/identify_frame.cpp) and by the
 /// tracker when it is lost (sensors/tracking/star_tracker.cpp): identify and fit with the
 /// cameras given, over the parities `parity` allows, within `limits`. `sigma_floor_px`
-/// floors the centroid sigma (the camera model's error on real frames).
+/// floors the centroid sigma (the camera model's error on real frames). Centroids flagged
+/// kRadiationHit (ranked last by detection) are left out: only the prefix before the first
+/// is searched.
 PlateSolveResult lostInSpace(const std::vector<Centroid>& centroids, int width, int height,
                              const StarDatabase& db, StarIdentifier& identifier,
                              const LostInSpaceCameras& cameras, double sigma_floor_px,

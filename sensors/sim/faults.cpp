@@ -50,7 +50,11 @@ const SectionSchema<FaultParams>& faultParamsSchema() {
           .add("gyro_fault_end_s", &F::gyro_fault_end_s, "[s] stuck / noisy axis ends")
           .add("gyro_spikes_per_s", &F::gyro_spikes_per_s,
                "Poisson rate of single-sample gyro spikes over the run")
-          .add("gyro_spike_deg_s", &F::gyro_spike_deg_s, "[deg/s] size of a gyro spike");
+          .add("gyro_spike_deg_s", &F::gyro_spike_deg_s, "[deg/s] size of a gyro spike")
+          .add("saa_start_s", &F::saa_start_s, "[s] start of a radiation burst (SAA pass)")
+          .add("saa_end_s", &F::saa_end_s, "[s] its end (= start: none)")
+          .add("saa_flux_factor", &F::saa_flux_factor,
+               "radiation flux factor during the burst, >= 1");
   return schema;
 }
 
@@ -93,6 +97,9 @@ void FaultParams::validate(const std::string& where) const {
   if (!(gyro_fault_start_s <= gyro_fault_end_s)) bad("gyro_fault_start_s > gyro_fault_end_s");
   if (!(gyro_spikes_per_s >= 0)) bad("gyro_spikes_per_s must be >= 0");
   if (!std::isfinite(gyro_spike_deg_s)) bad("gyro_spike_deg_s must be finite");
+  if (!(std::isfinite(saa_start_s) && saa_end_s >= saa_start_s && std::isfinite(saa_end_s)))
+    bad("need finite saa_start_s <= saa_end_s");
+  if (!(saa_flux_factor >= 1 && saa_flux_factor <= 1e6)) bad("saa_flux_factor must be in [1, 1e6]");
 }
 
 std::vector<ExtraSource> placeFalseSources(const FaultParams& f, const CameraModel& cam,
@@ -136,6 +143,10 @@ int addSpikes(cv::Mat& electrons, const FaultParams& f, std::mt19937_64& rng) {
     }
   }
   return n;
+}
+
+double saaFactor(const FaultParams& f, double t) {
+  return t >= f.saa_start_s && t < f.saa_end_s ? f.saa_flux_factor : 1.0;
 }
 
 void addBlinding(cv::Mat& electrons, const FaultParams& f, double t, double exposure_s) {

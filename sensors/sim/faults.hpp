@@ -19,6 +19,8 @@
 ///    earlier (dt < 0); jumps add up. `simulate` stamps the ground truth with the true clock
 ///    (the truth is no camera's); the live simulated camera still stamps its truth with its
 ///    own clock;
+///  - a South Atlantic Anomaly pass: the radiation hits' flux (sensors/sim/radiation.hpp)
+///    multiplied during an interval;
 ///  - gyro faults during [gyro_fault_start_s, gyro_fault_end_s): one axis stuck at its last
 ///    reading, and/or one axis with extra white noise; spikes: single samples with a large
 ///    error on one random axis, a Poisson number per second over the whole run.
@@ -35,6 +37,8 @@
 ///   frozen_s = t0 t1 [...], camera_time_jump_s = t dt [t dt ...]
 ///   gyro_stuck_axis, gyro_noisy_axis (0 1 2 = x y z, -1 = none), gyro_noise_deg_s,
 ///   gyro_fault_start_s, gyro_fault_end_s, gyro_spikes_per_s, gyro_spike_deg_s
+///   saa_start_s, saa_end_s, saa_flux_factor (radiation burst: [sensor] radiation_flux_cm2_s
+///   times the factor during the interval)
 #pragma once
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -78,6 +82,10 @@ struct FaultParams {
   double gyro_fault_start_s = 0, gyro_fault_end_s = 1e300;
   double gyro_spikes_per_s = 0;                     ///< Poisson rate of single-sample spikes
   double gyro_spike_deg_s = 5;                      ///< [deg/s] size of a spike (random sign)
+  /// A South Atlantic Anomaly pass (or a solar particle event): the radiation flux
+  /// ([sensor] radiation_flux_cm2_s) times saa_flux_factor during [saa_start_s, saa_end_s).
+  double saa_start_s = 0, saa_end_s = 0;
+  double saa_flux_factor = 100;
 
   static FaultParams fromConfig(const mrpt::config::CConfigFileBase& cfg,
                                 const std::string& section);
@@ -98,6 +106,9 @@ std::vector<ExtraSource> placeFalseSources(const FaultParams& f, const CameraMod
 
 /// Adds this frame's cosmic-ray hits to a mean-electron image; returns how many.
 int addSpikes(cv::Mat& electrons, const FaultParams& f, std::mt19937_64& rng);
+
+/// The radiation flux's factor at time t [s]: saa_flux_factor inside the SAA interval, else 1.
+double saaFactor(const FaultParams& f, double t);
 
 /// Adds the blinding glow (mean electrons) for a frame at time t [s] with exposure T [s].
 void addBlinding(cv::Mat& electrons, const FaultParams& f, double t, double exposure_s);

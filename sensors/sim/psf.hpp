@@ -17,6 +17,10 @@ namespace st {
 void addGaussianStar(cv::Mat& image, const Vec2& px, double total, double sigma_px,
                      double radius_sigmas = 6.0);
 
+/// The same with different sigmas along x and y (binned pixels, a radiation hit's diffusion).
+void addGaussianStarXY(cv::Mat& image, const Vec2& px, double total, double sigma_x,
+                       double sigma_y, double radius_sigmas = 6.0);
+
 /// Fraction of a pixel-integrated Gaussian falling on the pixel interval [a-0.5, a+0.5]
 /// along one axis, for a centre x and sigma s.
 double pixelFraction1d(double a, double x, double s);

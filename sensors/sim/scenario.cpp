@@ -11,6 +11,7 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/mrpt_convert.hpp"
+#include "sensors/sim/radiation.hpp"
 #include "sensors/sim/random_streams.hpp"
 
 namespace st {
@@ -163,11 +164,16 @@ SimFrame SkySimulator::frame(int k) const {
     if (!old.image.empty()) {
       f.image = old.image;
       f.spikes = old.spikes;
+      f.radiation_hits = old.radiation_hits;
       return f;
     }
   }
   std::mt19937_64 clutter = makeRng(image_seed_, RandomStream::kFrameClutter, static_cast<uint64_t>(k));
   f.spikes = addSpikes(electrons, faults, clutter);
+  f.radiation_hits = static_cast<int>(
+      addRadiationHits(electrons, sc_.sensor, sc_.sensor.radiation_flux_cm2_s * saaFactor(faults, f.t),
+                       f.exposure_s, clutter)
+          .size());
   addBlinding(electrons, faults, f.t, f.exposure_s);
   std::mt19937_64 noise = makeRng(image_seed_, RandomStream::kFrameNoise, static_cast<uint64_t>(k));
   f.image = detector_.expose(electrons, noise);

@@ -179,6 +179,7 @@ struct SimFrame {
   cv::Mat image;            ///< CV_8U or CV_16U
   std::vector<TrueStar> truth;
   int spikes = 0;
+  int radiation_hits = 0;   ///< particles that crossed the detector (sensors/sim/radiation.hpp)
 };
 
 struct GyroSample {

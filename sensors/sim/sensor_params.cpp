@@ -20,7 +20,8 @@ double SensorParams::starElectrons(double vmag) const {
 }
 
 double SensorParams::backgroundElectrons() const {
-  return (sky_e_px_s + dark_current_e_px_s) * exposure_s;  // eq. 3.8 (D = d t) + background
+  // eq. 3.8 (D = d t) + background, over the native pixels binned into one
+  return (sky_e_px_s + dark_current_e_px_s) * exposure_s * binning_x * binning_y;
 }
 
 double SensorParams::modelMeanAdu(double lambda) const { return bias_adu + lambda / gain(); }
@@ -57,6 +58,17 @@ void SensorParams::validate(const std::string& where) const {
   if (bit_depth < 8 || bit_depth > 16) bad("bit_depth", bit_depth, "must be in 8..16");
   if (!(bias_adu >= 0 && bias_adu < maxAdu())) bad("bias_adu", bias_adu, "must be in [0, 2^bits-1)");
   if (hot_pixels < 0) bad("hot_pixels", hot_pixels, "must be >= 0");
+  if (binning_x < 1 || binning_x > 8) bad("binning_x", binning_x, "must be in 1..8");
+  if (binning_y < 1 || binning_y > 8) bad("binning_y", binning_y, "must be in 1..8");
+  if (!(radiation_flux_cm2_s >= 0 && radiation_flux_cm2_s <= 1e6))
+    bad("radiation_flux_cm2_s", radiation_flux_cm2_s, "must be in [0, 1e6]");
+  if (!(pixel_pitch_um > 0 && pixel_pitch_um <= 1000)) bad("pixel_pitch_um", pixel_pitch_um, "must be in (0, 1000]");
+  if (!(radiation_depth_um > 0 && radiation_depth_um <= 1000))
+    bad("radiation_depth_um", radiation_depth_um, "must be in (0, 1000]");
+  if (!(radiation_e_per_um >= 0 && radiation_e_per_um <= 1e5))
+    bad("radiation_e_per_um", radiation_e_per_um, "must be in [0, 1e5]");
+  if (!(radiation_energy_spread >= 0 && radiation_energy_spread <= 3))
+    bad("radiation_energy_spread", radiation_energy_spread, "must be in [0, 3]");
   if (!(hot_pixel_e_px_s >= 0)) bad("hot_pixel_e_px_s", hot_pixel_e_px_s, "must be >= 0");
 }
 
@@ -82,6 +94,15 @@ const SectionSchema<SensorParams>& sensorParamsSchema() {
           .add("gain_e_per_adu", &P::gain_e_per_adu, "[e-/ADU] ADC gain; 0 = full_well / 2^bits")
           .add("bit_depth", &P::bit_depth, "ADC bits, 8..16")
           .add("bias_adu", &P::bias_adu, "[ADU] black level")
+          .add("binning_x", &P::binning_x, "native pixels binned per image column, 1..8")
+          .add("binning_y", &P::binning_y, "native pixels binned per image row, 1..8 (PSF / binning)")
+          .add("radiation_flux_cm2_s", &P::radiation_flux_cm2_s,
+               "[particles/cm^2/s] charged-particle flux through the detector; 0 = none")
+          .add("pixel_pitch_um", &P::pixel_pitch_um, "[um] native pixel pitch (hit rate, track length)")
+          .add("radiation_depth_um", &P::radiation_depth_um, "[um] sensitive depth of the silicon")
+          .add("radiation_e_per_um", &P::radiation_e_per_um, "[e-/um] mean charge per um of a hit's path")
+          .add("radiation_energy_spread", &P::radiation_energy_spread,
+               "lognormal sigma of a hit's charge")
           .add("hot_pixels", &P::hot_pixels, "number of hot pixels")
           .add("hot_pixel_e_px_s", &P::hot_pixel_e_px_s, "[e-/px/s] dark current of a hot pixel")
           .add("hot_pixel_seed", &P::hot_pixel_seed, "seed of the hot pixel positions");

@@ -53,6 +53,26 @@ struct SensorParams {
   int bit_depth = 8;                   ///< ADC bits, 8..16 (8 -> CV_8U image, else CV_16U)
   double bias_adu = 8.0;               ///< [ADU] black level added before quantisation
 
+  // --- on-chip binning (a downlinked in-flight frame: Swarm's rows are binned 2x) ---
+  /// Native pixels summed into one image pixel along columns (x) and rows (y): the PSF is
+  /// psf_sigma_px / binning along each axis (psf_sigma_px is in native pixels), sky and dark
+  /// add up over the summed pixels, read noise is added once (charge binned on chip). The
+  /// scenario's camera states the image pixels' geometry (fy = fx * binning_x / binning_y).
+  int binning_x = 1, binning_y = 1;
+
+  // --- radiation hits (sensors/sim/radiation.hpp) ---
+  /// [particles/cm^2/s] flux of charged particles through the detector (a low orbit outside
+  /// the South Atlantic Anomaly: ~1-10; inside it, and in solar storms, 100x more: the
+  /// [faults] saa_* keys); 0 = none
+  double radiation_flux_cm2_s = 0;
+  double pixel_pitch_um = 10;           ///< [um] native pixel pitch
+  double radiation_depth_um = 10;       ///< [um] sensitive depth of the silicon
+  /// [e-/um] mean charge a particle leaves along its path in silicon (a minimum-ionising one:
+  /// ~80 e-/um; protons of tens of MeV several times more)
+  double radiation_e_per_um = 80;
+  /// lognormal sigma of a hit's charge about that mean: the energy spread of the particles
+  double radiation_energy_spread = 0.7;
+
   // --- fixed hot pixels ---
   int hot_pixels = 0;                  ///< number of hot pixels (fixed positions per camera)
   double hot_pixel_e_px_s = 5000.0;    ///< [e-/px/s] dark current of a hot pixel
@@ -66,6 +86,9 @@ struct SensorParams {
   double starElectrons(double vmag) const;
   /// The exposure of a frame [s] taken at body (= camera) rate `omega` [rad/s] through `cam`.
   double exposureAt(const CameraModel& cam, const Vec3& omega) const;
+  /// PSF sigma [image px] along x and y (psf_sigma_px over the binning).
+  double psfSigmaX() const { return psf_sigma_px / binning_x; }
+  double psfSigmaY() const { return psf_sigma_px / binning_y; }
   /// Mean electrons per pixel from sky + dark current in one exposure (no star, no hot pixel).
   double backgroundElectrons() const;
   /// Model mean and variance [ADU, ADU^2] of a pixel whose mean electron count is `lambda`,

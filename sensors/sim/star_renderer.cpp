@@ -77,7 +77,8 @@ std::vector<TrueStar> StarRenderer::render(const AttitudeAt& q_ib_at, cv::Mat& e
     const auto b = cam_.vectorToPixel(R_end.transpose() * s.u_i);
     if (a && m && b) max_len = std::max(max_len, (*m - *a).norm() + (*b - *m).norm());
   }
-  const double spacing = opts.max_substep_sigma * sensor_.psf_sigma_px;
+  const double spacing = opts.max_substep_sigma *
+                        std::min(sensor_.psfSigmaX(), sensor_.psfSigmaY());
   const int n = std::clamp(static_cast<int>(std::ceil(max_len / spacing)), 1, opts.max_substeps);
   last_substeps_ = n;
   std::vector<Mat3> R_bi(static_cast<std::size_t>(n));  // inertial -> body at each sub-step
@@ -108,7 +109,10 @@ std::vector<TrueStar> StarRenderer::render(const AttitudeAt& q_ib_at, cv::Mat& e
         y0 > cam_.height() - 1 + reach)
       continue;
     const double share = s.electrons / n;
-    for (int k = 0; k < n; ++k) addGaussianStar(electrons, path[static_cast<std::size_t>(k)], share, s.sigma_px);
+    // A source's sigma is in native pixels: binning narrows it along the binned axis.
+    const double sx = s.sigma_px / sensor_.binning_x, sy = s.sigma_px / sensor_.binning_y;
+    for (int k = 0; k < n; ++k)
+      addGaussianStarXY(electrons, path[static_cast<std::size_t>(k)], share, sx, sy);
     if (!s.is_catalog) continue;
     const auto p_mid = cam_.vectorToPixel(R_mid.transpose() * s.u_i);
     if (p_mid && cam_.isPixelInImage(*p_mid)) truth.push_back({s.id, *p_mid, s.mag, s.electrons});
