@@ -209,8 +209,10 @@ void printJson(const nlohmann::ordered_json& j) {
 void printDetections(const FrameInput& in, std::size_t n) {
   std::fprintf(stderr, "  %3s %8s %8s %9s %7s %7s %5s %6s %6s %6s  %s\n", "#", "x [px]",
                "y [px]", "flux", "peak", "SNR", "area", "s_maj", "s_min", "pk/flx", "flags");
-  for (std::size_t i = 0; i < in.stars.size() && i < n; ++i) {
+  for (std::size_t i = 0; i < in.stars.size(); ++i) {
     const Centroid& c = in.stars[i];
+    // The brightest n, and every radiation hit (ranked last) with why it is one.
+    if (i >= n && !(c.flags & kRadiationHit)) continue;
     // Sigma of the light along and across its long axis, from the blob's second moments.
     const Eigen::SelfAdjointEigenSolver<Mat2> es(c.shape);
     const double lo = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
@@ -219,7 +221,9 @@ void printDetections(const FrameInput& in, std::size_t n) {
                  c.px.x(), c.px.y(), c.flux, c.peak, c.snr, c.area, hi, lo,
                  c.flux > 0 ? c.peak / c.flux : 0.0, centroidFlagNames(c.flags).c_str());
   }
-  if (in.stars.size() > n) std::fprintf(stderr, "  ... %zu more\n", in.stars.size() - n);
+  if (in.stars.size() > n)
+    std::fprintf(stderr, "  (%zu more not shown)\n",
+                 in.stars.size() - n - static_cast<std::size_t>(std::max(0, in.hits)));
 }
 
 void printSolutionText(const SolveReport& r) {

@@ -69,7 +69,7 @@ void printSolutionText(const SolveReport& r);
 nlohmann::ordered_json solutionJson(const SolveReport& r);
 nlohmann::ordered_json failureJson(const SolveReport& r);
 nlohmann::ordered_json errorJson(const std::string& message, int exit_code);
-/// The brightest `n` detections with their shape measures (position, flux, peak, SNR, area,
+/// The brightest `n` detections, and every radiation hit, with their shape measures (position, flux, peak, SNR, area,
 /// sigma of the light along and across its long axis, peak over flux, flags), to stderr:
 /// what `-v` shows to see why a frame did or did not solve.
 void printDetections(const FrameInput& in, std::size_t n = 25);

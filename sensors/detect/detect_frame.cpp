@@ -200,23 +200,26 @@ double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, do
   return std::min(opts.max_psf_sigma_px, 2 * *mid + 0.5);
 }
 
-// The frame's PSF along x and y (radiation_hits.hpp): the median three-pixel width of its most
-// significant unclipped blobs clear of the edge.
+// The frame's PSF along x and y (radiation_hits.hpp): the widest tight cluster of the three-pixel
+// widths of its most significant unclipped blobs.
 void framePsf(const cv::Mat& grey, Scratch& s, double sat, DetectionResult& res) {
   const BackgroundModel& bg = s.background;
   const std::vector<Blob>& blobs = s.labeller.blobs();
-  thread_local std::vector<double> wx, wy;
-  wx.clear(), wy.clear();
-  for (std::size_t i = 0; i < s.candidates.size() && static_cast<int>(wx.size()) < kMaxPsfBlobs; ++i) {
+  thread_local std::vector<AxisWidth> widths;
+  widths.clear();
+  for (std::size_t i = 0; i < s.candidates.size() && static_cast<int>(widths.size()) < kMaxPsfBlobs; ++i) {
     const Blob& c = blobs[static_cast<std::size_t>(s.candidates[i].blob)];
     const double b = bg.levelAt(c.peak.x, c.peak.y);
     if (c.peak_raw >= sat || c.peak_raw - b < kPsfSettingPeakSigma * bg.sigmaAt(c.peak.x, c.peak.y))
       continue;
+    // A significant blob with no light beside its peak along an axis is no star (a star's
+    // neighbours hold > 5 % of its peak): it does not set the PSF; nor does a flat top.
     const AxisWidth w = profileWidth(grey, c.peak.x, c.peak.y, b);
-    wx.push_back(w.x), wy.push_back(w.y);
+    if (w.x > 0 && w.y > 0 && w.x < 10 && w.y < 10) widths.push_back(w);
   }
-  res.psf_width_x = s.frame_psf_x = medianWidth(wx);
-  res.psf_width_y = s.frame_psf_y = medianWidth(wy);
+  const AxisWidth psf = frameWidth(widths);
+  res.psf_width_x = s.frame_psf_x = psf.x;
+  res.psf_width_y = s.frame_psf_y = psf.y;
 }
 
 // What a star of this frame looks like, from the median m of flux over peak pixel of its

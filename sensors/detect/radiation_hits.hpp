@@ -8,15 +8,17 @@
 /// The frame's PSF, per axis: along a pixel row (x) and a column (y) through a blob's peak,
 /// the Gaussian width of the three pixels (left L, peak P, right R above the background),
 ///   s^2 = 1 / (2 ln P - ln L - ln R)       (exact for a sampled Gaussian at any phase),
-/// its median over the most significant unclipped blobs (stars outnumber hits among the
-/// brightest; where they do not, the median falls and fewer hits are flagged: the rule fails
-/// towards flagging nothing).
+/// taken from the most significant unclipped blobs as their widest tight cluster
+/// (frameWidth): the stars share one PSF, hits are sharper, so the stars set it even where
+/// hits outnumber them.
 /// The test, per axis: a star's two neighbours hold together at least 2 r P, r = exp(-1 /
 /// (2 s^2)), the least at a peak centred on its pixel (off centre one neighbour gains more
 /// than the other loses). A blob whose neighbours hold less than kNeighbourFraction of that,
 /// even with kNoiseSigmas of noise in their favour, is a hit: a dot is bare along both axes,
-/// a track across either axis or along a diagonal is bare across x or y. The fraction allows
-/// for the median width being a typical phase's, not the sharpest's, and for the focus
+/// a track across either axis is bare across x or y. Along the diagonals a star's two corner
+/// neighbours hold at least 2 r_x r_y P (separable), and a diagonal track is bare across its
+/// own diagonal. The fraction allows
+/// for the cluster's width being a typical phase's, not the sharpest's, and for the focus
 /// varying over the field.
 /// Rows and columns are taken apart, so binned pixels (a PSF half as wide in y as in x) need
 /// no camera model here; an axis whose PSF is below the pixel (r -> 0) tells nothing.
@@ -27,10 +29,10 @@
 
 namespace st::detect_detail {
 
-/// A blob's peak above the background and the sums of its two neighbours along x and y
-/// (NaN along an axis where a neighbour is outside the image).
+/// A blob's peak above the background and the sums of its two neighbours along x, along y
+/// and along each diagonal (NaN where a neighbour is outside the image).
 struct PeakProfile {
-  double peak = 0, along_x = 0, along_y = 0;
+  double peak = 0, along_x = 0, along_y = 0, diagonal = 0, antidiagonal = 0;
 };
 PeakProfile peakProfile(const cv::Mat& grey, int px, int py, double b);
 
@@ -42,22 +44,31 @@ struct AxisWidth {
 AxisWidth profileWidth(const cv::Mat& grey, int px, int py, double b);
 
 /// What a hit's neighbours hold at most, as a fraction of a star's least (2 r P). Measured on
-/// the 30 Swarm frames (an undersampled PSF, s ~ 0.5-0.6 px, rows binned): 0.35 flags 53 of
-/// 2,236 catalog stars, 0.2 flags 3 (at the edge of their pixel's phase); a resolved PSF
+/// the 30 Swarm frames (an undersampled PSF, s ~ 0.5-0.6 px, rows binned): 0.3 flags 17 of
+/// 2,236 catalog stars, 0.2 flags 3 (at the sharpest of their pixel's phase); a resolved PSF
 /// (s >= 0.8 px) leaves a wide margin either way. Faint hits on an undersampled frame look
 /// like faint stars and stay unflagged: ranking and verification deal with them.
 constexpr double kNeighbourFraction = 0.2;
 /// Noise sigmas (of the two neighbours' sum) given to the neighbours before the test.
 constexpr double kNoiseSigmas = 2.0;
 /// Blobs whose peak is at least this many noise sigmas set the frame's PSF.
-constexpr double kPsfSettingPeakSigma = 20.0;
+constexpr double kPsfSettingPeakSigma = 10.0;
 /// Fewer blobs than this setting the PSF: no hit is flagged (nothing to compare with).
 constexpr int kMinPsfBlobs = 5;
 /// At most this many of the most significant blobs are measured for the PSF.
-constexpr int kMaxPsfBlobs = 30;
+constexpr int kMaxPsfBlobs = 60;
 
-/// Median of the non-zero values of `v` (reordered), 0 when fewer than kMinPsfBlobs.
-double medianWidth(std::vector<double>& v);
+/// The frame's PSF widths from the significant blobs' (x, y) widths (both > 0): the stars
+/// share one PSF and hits are sharper than it (tracks of one direction can form a cluster of
+/// their own, as tight and as many), so the PSF is the widest cluster of the pairs (blobs
+/// within kClusterTolerance of its centre along both axes) with at least a fifth of them
+/// (and kMinPsfBlobs / 2 + 1), the median of its members per axis. {0, 0} when fewer than
+/// kMinPsfBlobs pairs or no such cluster.
+AxisWidth frameWidth(const std::vector<AxisWidth>& blobs);
+
+/// Relative width difference within which two blobs count as the same PSF: a star's
+/// three-pixel width moves by up to ~15 % with its sub-pixel phase.
+constexpr double kClusterTolerance = 0.2;
 
 /// True when the profile's neighbours along x or y hold less than a star of the frame's PSF
 /// widths (psf_x, psf_y; 0 = unknown) allows, with noise `sigma` [ADU] per pixel.

@@ -38,8 +38,8 @@ struct DetectionResult {
   int duplicates = 0;           ///< centroids dropped as the same star as a brighter one
   double threshold_sigma = 0;   ///< k of this detection (threshold_mode dynamic: it varies)
   int hits = 0;                 ///< stars flagged kRadiationHit (kept, ranked last)
-  /// [px] the frame's PSF along columns (x) and rows (y): the median three-pixel Gaussian
-  /// width of its most significant unclipped blobs (radiation_hits.hpp; 0 when too few
+  /// [px] the frame's PSF along columns (x) and rows (y): the three-pixel Gaussian width
+  /// of its most significant unclipped blobs (their widest tight cluster) (radiation_hits.hpp; 0 when too few
   /// tell), what the hit rule compares with
   double psf_width_x = 0, psf_width_y = 0;
   /// The blobs the filters dropped (area, reject_flags, no centroid), for pictures of why a
