@@ -30,6 +30,16 @@ std::vector<std::string> tetra3Frames() {
   return out;
 }
 
+std::string swarmImageDir() { return repoDir() + "/tests/data/swarm"; }
+
+std::vector<std::string> swarmFrames() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(swarmImageDir()))
+    if (e.path().extension() == ".png") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 std::string bsc5Path() { return repoDir() + "/catalog/data/bsc5"; }
 
 std::string makeTempDir(const std::string& tag) {

@@ -17,6 +17,11 @@ std::string hipparcosSubsetPath();
 std::string tetra3ImageDir();
 /// The eight real tetra3 frames (.tiff), sorted by name.
 std::vector<std::string> tetra3Frames();
+/// The thirty real Swarm star-camera frames (committed in tests/data/swarm): .png, each with
+/// its astrometry.net .wcs beside it.
+std::string swarmImageDir();
+/// Their .png files, sorted by name.
+std::vector<std::string> swarmFrames();
 /// The Yale Bright Star Catalogue binary (committed in catalog/data).
 std::string bsc5Path();
 /// A fresh empty temporary directory for one test (removed by the OS, not by the test).
