@@ -309,10 +309,10 @@ int runReplay(const ReplayOpts& o) {
               cfg.database.path.empty() ? "built in memory" : cfg.database.path.c_str(), db_s);
   const StepReport::Counts& c = report.counts();
   const double pct = c.frames ? 100.0 / c.frames : 0.0;
-  std::printf("frames: %d, solved %.1f %%, lost-in-space %d, tracking %.1f %%, rejected by the "
-              "filter %d, re-initialisations %d\n",
-              c.frames, c.solved * pct, c.lost_in_space, c.tracking * pct, c.rejected,
-              nav.reinitializations());
+  std::printf("frames: %d, solved %.1f %%, lost-in-space %d (%d re-acquired in the frame), "
+              "tracking %.1f %%, rejected by the filter %d, re-initialisations %d\n",
+              c.frames, c.solved * pct, c.lost_in_space, c.reacquired, c.tracking * pct,
+              c.rejected, nav.reinitializations());
   std::printf("time per frame: %.3f ms (pipeline), replay %.1f frames/s wall\n",
               c.frames ? 1e3 * c.frame_time_s / c.frames : 0.0, c.frames / std::max(wall_s, 1e-9));
   report.print(stdout);

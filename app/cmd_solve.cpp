@@ -73,7 +73,8 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
                   "to the annual aberration (a spacecraft's orbit)")
       ->expected(3);
   cmd->add_option("--annotate", o->annotate,
-                  "Write a labelled PNG of the solved frame (blobs circled, stars named)");
+                  "Write a labelled PNG of the frame: blobs marked star / radiation hit / "
+                  "diffuse / rejected, identified stars named, the solution or why it failed");
   cmd->add_option("--fov-range", o->fov_range_deg,
                   "Horizontal FOV range [deg] searched when neither --camera nor --fov-deg")
       ->expected(2)

@@ -65,6 +65,8 @@ int reportFrame(const FrameOutcome& f) {
   if (!rep.failure.empty()) {
     if (o.json) printJson(outcomeJson(f));
     log::error("%s: not solved: %s", o.input.c_str(), rep.failure.c_str());
+    // The picture of a failed frame shows why: what detection made of each blob.
+    if (!o.annotate.empty()) writeSolveAnnotation(rep, o.annotate);
     return kExitFailure;
   }
   if (const std::string d = cameraDiscrepancy(rep); !d.empty()) log::warn("%s", d.c_str());

@@ -3,6 +3,7 @@
 #include "imageio/image_codecs.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "common/errors.hpp"
@@ -37,15 +38,38 @@ cv::Mat stretch(const cv::Mat& grey) {
 }
 }  // namespace
 
-cv::Mat annotateFrame(const cv::Mat& grey, const std::vector<Vec2>& detections,
+cv::Mat annotateFrame(const cv::Mat& grey, const std::vector<MarkedBlob>& blobs,
                       const std::vector<LabelledStar>& identified,
-                      const std::vector<std::string>& caption) {
+                      const std::vector<std::string>& caption, double pixel_aspect) {
   cv::Mat img = stretch(grey);
+  // Binned rows: each repeated, so that the picture has the sky's proportions.
+  const int rows = pixel_aspect >= 1.5 ? static_cast<int>(std::lround(pixel_aspect)) : 1;
+  if (rows > 1) cv::resize(img, img, cv::Size(img.cols, img.rows * rows), 0, 0, cv::INTER_NEAREST);
   const double scale = std::max(0.4, img.cols / 1600.0);
   const int thick = std::max(1, static_cast<int>(scale * 1.5));
-  auto pt = [](const Vec2& p) { return cv::Point(cvRound(p.x()), cvRound(p.y())); };
-  for (const Vec2& d : detections)
-    cv::circle(img, pt(d), static_cast<int>(8 * scale + 4), cv::Scalar(0, 165, 255), 1, cv::LINE_AA);
+  auto pt = [rows](const Vec2& p) {
+    return cv::Point(cvRound(p.x()), cvRound((p.y() + 0.5) * rows - 0.5));
+  };
+  const int r = static_cast<int>(8 * scale + 4);
+  for (const MarkedBlob& b : blobs) {
+    switch (b.kind) {
+      case BlobKind::kStar:
+        cv::circle(img, pt(b.px), r, cv::Scalar(0, 165, 255), 1, cv::LINE_AA);  // orange
+        break;
+      case BlobKind::kHit: {  // magenta cross: charge, not light
+        const cv::Point c = pt(b.px), d(r / 2 + 2, r / 2 + 2), e(r / 2 + 2, -(r / 2 + 2));
+        cv::line(img, c - d, c + d, cv::Scalar(255, 0, 255), 1, cv::LINE_AA);
+        cv::line(img, c - e, c + e, cv::Scalar(255, 0, 255), 1, cv::LINE_AA);
+        break;
+      }
+      case BlobKind::kDiffuse:
+        cv::circle(img, pt(b.px), r, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);  // yellow
+        break;
+      case BlobKind::kRejected:
+        cv::circle(img, pt(b.px), r / 2, cv::Scalar(128, 128, 128), 1, cv::LINE_AA);  // grey
+        break;
+    }
+  }
   for (const LabelledStar& s : identified) {
     cv::circle(img, pt(s.px), static_cast<int>(12 * scale + 6), cv::Scalar(80, 255, 80), thick,
                cv::LINE_AA);
@@ -63,10 +87,10 @@ cv::Mat annotateFrame(const cv::Mat& grey, const std::vector<Vec2>& detections,
 }
 
 void writeAnnotatedFrame(const std::string& path, const cv::Mat& grey,
-                         const std::vector<Vec2>& detections,
+                         const std::vector<MarkedBlob>& blobs,
                          const std::vector<LabelledStar>& identified,
-                         const std::vector<std::string>& caption) {
-  imageio::writePng(path, annotateFrame(grey, detections, identified, caption));
+                         const std::vector<std::string>& caption, double pixel_aspect) {
+  imageio::writePng(path, annotateFrame(grey, blobs, identified, caption, pixel_aspect));
 }
 
 }  // namespace st::solve

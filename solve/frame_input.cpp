@@ -42,26 +42,28 @@ FrameInput fromStarList(const SolveOptions& o) {
 
 }  // namespace
 
-FrameInput loadFrameInput(const SolveOptions& o) {
+FrameInput loadFrameInput(const SolveOptions& o, double pixel_aspect) {
   if (isStarList(o.input)) return fromStarList(o);
   if (o.width > 0 || o.height > 0)
     throw InputError("--width/--height: only for a star list; " + o.input +
                      " is an image and has its own size");
   const auto t0 = Clock::now();
   imageio::LoadedImage img = imageio::loadImage(o.input);
-  FrameInput in = frameInputFromImage(img.image, o, o.input);
+  FrameInput in = frameInputFromImage(img.image, o, o.input, pixel_aspect);
   in.load_ms = msSince(t0) - in.detect_ms;
   in.epoch_jyear = img.epoch_jyear;
   in.epoch_source = img.epoch_source;
   return in;
 }
 
-FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, const std::string& name) {
+FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, const std::string& name,
+                               double pixel_aspect) {
   FrameInput in;
   in.width = image.cols;
   in.height = image.rows;
   const auto t0 = Clock::now();
   DetectorOptions dopts;
+  dopts.pixel_aspect = pixel_aspect;
   if (!o.dark_frame.empty()) {
     const cv::Mat& d = o.dark_frame;
     if (d.size() != image.size() || d.depth() != image.depth())

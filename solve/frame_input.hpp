@@ -33,9 +33,11 @@ struct FrameInput {
 
 /// Loads o.input; throws InputError naming the file (or --width/--height for a star list
 /// without its image size).
-FrameInput loadFrameInput(const SolveOptions& o);
+/// `pixel_aspect`: the camera's fx / fy, for the blobs' shapes (DetectorOptions::pixel_aspect).
+FrameInput loadFrameInput(const SolveOptions& o, double pixel_aspect = 1);
 /// Detects the stars of an 8- or 16-bit grey image in memory (o.dark_frame subtracted; `name`
 /// in messages). The result's image is a header on `image`, not a copy.
-FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, const std::string& name);
+FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, const std::string& name,
+                               double pixel_aspect = 1);
 
 }  // namespace st::solve

@@ -100,6 +100,12 @@ PlateSolveResult identify(const SolveOptions& o, const FrameInput& in, const Sta
 PlateSolver::PlateSolver(SolveOptions options)
     : o_(std::move(options)), frame_(requestedFrame(o_)) {
   o_.positionHint();  // a bad hint fails before any work
+  // The pixels' shape on the sky, for detection: the camera file's (read again, once, per
+  // solver: .ini cameras are handed to startracker-cli), else --pixel-aspect / --binning.
+  pixel_aspect_ = o_.camera.camera_file.empty()
+                      ? o_.camera.pixelAspect(o_.option_prefix)
+                      : CameraModel::loadFile(o_.camera.camera_file, o_.camera.camera_section)
+                            .pixelAspect();
   if (!o_.dark.empty() && o_.dark_frame.empty()) o_.dark_frame = readDarkFrame(o_.dark);
   if (o_.database.empty()) return;
   const auto t0 = Clock::now();
@@ -127,8 +133,9 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFile(const std::string& path) co
   // the disk cache every time, and two cores do both at once.
   const std::optional<imageio::ImageProbe> probe =
       isStarList(path) || !o.dark_frame.empty() ? std::nullopt : imageio::probeImage(path);
-  if (!probe) return solveInput(loadFrameInput(o), path, t_start);
-  auto decoded = std::async(std::launch::async, [&o] { return loadFrameInput(o); });
+  const double aspect = pixel_aspect_;
+  if (!probe) return solveInput(loadFrameInput(o, aspect), path, t_start);
+  auto decoded = std::async(std::launch::async, [&o, aspect] { return loadFrameInput(o, aspect); });
   std::optional<Prepared> early;
   try {
     CameraSearch cs = cameraSearch(o, probe->width, probe->height);
@@ -147,7 +154,7 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFile(const std::string& path) co
 std::unique_ptr<FrameOutcome> PlateSolver::solveImage(const cv::Mat& image,
                                                       const std::string& name) const {
   const auto t_start = Clock::now();
-  return solveInput(frameInputFromImage(image, o_, name), name, t_start);
+  return solveInput(frameInputFromImage(image, o_, name, pixel_aspect_), name, t_start);
 }
 
 std::unique_ptr<FrameOutcome> PlateSolver::solveFileCaught(const std::string& path) const {

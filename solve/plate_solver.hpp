@@ -81,6 +81,7 @@ class PlateSolver {
   bool given_from_file_ = false;
   double given_ms_ = 0;
   CelestialFrame frame_;  ///< the frame asked for
+  double pixel_aspect_ = 1;  ///< the camera's fx / fy, for detection
 };
 
 }  // namespace st::solve

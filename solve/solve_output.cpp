@@ -291,24 +291,55 @@ void printSolutionText(const SolveReport& r) {
 
 void writeSolveAnnotation(const SolveReport& r, const std::string& path) {
   const IdentifyResult& res = r.ps.search.result;
-  std::vector<Vec2> detections;
-  for (const Centroid& c : r.in.stars) detections.push_back(c.px);
+  const bool solved = r.failure.empty();
+  std::vector<MarkedBlob> blobs;
+  for (const Centroid& c : r.in.stars)
+    blobs.push_back({c.px, (c.flags & kRadiationHit)                ? BlobKind::kHit
+                           : (c.flags & (kDiffuse | kElongated))   ? BlobKind::kDiffuse
+                                                                   : BlobKind::kStar});
+  for (const DetectionResult::Rejected& b : r.in.rejected) blobs.push_back({b.px, BlobKind::kRejected});
   std::vector<LabelledStar> identified;
   const std::string label = idLabel(r);
-  for (const StarMatch& m : res.matches)
-    identified.push_back({inputPixel(r, m), label + " " + std::to_string(m.catalog_id)});
-  const RaDecRoll rdr = raDecRollFromAttitude(res.q_ic);
-  const AttitudeSigma sig = attitudeSigma(res.cov_cam);
-  char l1[160], l2[160];
-  std::snprintf(l1, sizeof l1, "RA %.4f  Dec %+.4f  roll %.3f deg%s", rad2deg(rdr.ra),
-                rad2deg(rdr.dec), rad2deg(rdr.roll),
-                r.ps.parity == Parity::Flipped ? "  (flipped parity)" : "");
-  std::snprintf(l2, sizeof l2, "1-sigma %.1f\" cross-boresight, %.1f\" roll; %zu/%zu stars, RMS %.2f px",
-                rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll), res.matches.size(),
-                r.in.stars.size(), res.rms_residual_px);
+  if (solved)
+    for (const StarMatch& m : res.matches)
+      identified.push_back({inputPixel(r, m), label + " " + std::to_string(m.catalog_id)});
+  std::vector<std::string> caption;
+  char line[200];
+  if (solved) {
+    const RaDecRoll rdr = raDecRollFromAttitude(res.q_ic);
+    const AttitudeSigma sig = attitudeSigma(res.cov_cam);
+    std::snprintf(line, sizeof line, "RA %.4f  Dec %+.4f  roll %.3f deg%s", rad2deg(rdr.ra),
+                  rad2deg(rdr.dec), rad2deg(rdr.roll),
+                  r.ps.parity == Parity::Flipped ? "  (flipped parity)" : "");
+    caption.push_back(line);
+    std::snprintf(line, sizeof line,
+                  "1-sigma %.1f\" cross-boresight, %.1f\" roll; %zu/%zu stars, RMS %.2f px",
+                  rad2arcsec(sig.cross_boresight), rad2arcsec(sig.roll), res.matches.size(),
+                  r.in.stars.size(), res.rms_residual_px);
+    caption.push_back(line);
+  } else {
+    // Why the solve stopped, cut into lines that fit the picture.
+    const std::string why = "not solved: " + r.failure;
+    const std::size_t width = static_cast<std::size_t>(std::max(40, r.in.width / 8));
+    for (std::size_t i = 0; i < why.size() && caption.size() < 6; i += width)
+      caption.push_back(why.substr(i, width));
+  }
+  int kinds[4] = {0, 0, 0, 0};
+  for (const MarkedBlob& b : blobs) ++kinds[static_cast<int>(b.kind)];
+  std::snprintf(line, sizeof line,
+                "blobs: %d stars (orange), %d radiation hits (magenta x), %d diffuse (yellow), "
+                "%d rejected (grey)",
+                kinds[0], kinds[1], kinds[2], kinds[3]);
+  caption.push_back(line);
   const cv::Mat canvas =
       r.in.image.empty() ? cv::Mat::zeros(r.in.height, r.in.width, CV_8UC1) : r.in.image;
-  writeAnnotatedFrame(path, canvas, detections, identified, {l1, l2});
+  const double aspect = solved ? r.ps.search.camera.pixelAspect()
+                               : (r.o.camera.camera_file.empty()
+                                      ? r.o.camera.pixelAspect(r.o.option_prefix)
+                                      : CameraModel::loadFile(r.o.camera.camera_file,
+                                                              r.o.camera.camera_section)
+                                            .pixelAspect());
+  writeAnnotatedFrame(path, canvas, blobs, identified, caption, aspect);
 }
 
 }  // namespace st::solve

@@ -76,7 +76,8 @@ void printDetections(const FrameInput& in, std::size_t n = 25);
 /// One line on stdout.
 void printJson(const nlohmann::ordered_json& j);
 
-/// The annotated picture of a solved frame (the image, or a black frame for a star list).
+/// The annotated picture of a frame, solved or not (the image, or a black frame for a star
+/// list): blobs marked by kind, identified stars named, the solution or why it failed.
 void writeSolveAnnotation(const SolveReport& r, const std::string& path);
 
 }  // namespace st::solve

@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "common/log.hpp"
+#include "sensors/tracking/star_tracker.hpp"
 
 namespace st::app {
 
@@ -67,6 +68,7 @@ void LiveRecorder::write(const mrpt::obs::CObservation::Ptr& o) {
     if (f->hasAttitude()) ++solved_;
     if (f->mode == StarTrackerMode::kTracking) ++tracking_;
     if (f->mode == StarTrackerMode::kLostInSpace) ++lis_;
+    if (reacquiredInFrame(f->mode, f->reason)) ++reacquired_;
     if (!f->hasAttitude()) ++failures_[f->failure];
   }
 }
@@ -90,8 +92,9 @@ void LiveRecorder::printTrackerSummary(std::FILE* out) const {
   const auto pct = [](int a, int b) { return b > 0 ? 100.0 * a / b : 0.0; };
   std::fprintf(out,
                "star tracker: %d frames, %d solved (%.1f %%), %d tracking (%.1f %%), "
-               "%d lost-in-space\n",
-               frames_, solved_, pct(solved_, frames_), tracking_, pct(tracking_, frames_), lis_);
+               "%d lost-in-space (%d re-acquired in the frame whose windows failed)\n",
+               frames_, solved_, pct(solved_, frames_), tracking_, pct(tracking_, frames_), lis_,
+               reacquired_);
   for (const auto& [failure, n] : failures_)
     std::fprintf(out, "  failed %d x: %s\n", n, toString(failure));
 }

@@ -63,7 +63,7 @@ class LiveRecorder {
   int out_of_order_ = 0;
   std::map<std::string, std::size_t> per_label_;
   std::map<FrameFailure, int> failures_;
-  int frames_ = 0, solved_ = 0, tracking_ = 0, lis_ = 0, image_no_ = 0;
+  int frames_ = 0, solved_ = 0, tracking_ = 0, lis_ = 0, reacquired_ = 0, image_no_ = 0;
   std::size_t written_ = 0;
 };
 

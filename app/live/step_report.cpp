@@ -1,5 +1,7 @@
 #include "app/live/step_report.hpp"
 
+#include "sensors/tracking/star_tracker.hpp"
+
 namespace st::app {
 
 StepReport::StepReport(const std::string& csv_path, bool keep) : keep_(keep) {
@@ -12,6 +14,7 @@ void StepReport::push(const NavStep& s) {
     counts_.frame_time_s += s.frame_time_s;
     counts_.solved += s.fix;
     counts_.lost_in_space += s.mode == StarTrackerMode::kLostInSpace;
+    counts_.reacquired += reacquiredInFrame(s.mode, s.reason);
     counts_.tracking += s.mode == StarTrackerMode::kTracking;
     counts_.rejected += s.use == FixUse::kRejected;
   }

@@ -21,6 +21,7 @@ class StepReport {
   /// The frame steps counted as they come (replay's "frames:" line).
   struct Counts {
     int frames = 0, solved = 0, lost_in_space = 0, tracking = 0, rejected = 0;
+    int reacquired = 0;  ///< lost-in-space in the frame whose windows failed
     double frame_time_s = 0;  ///< [s] the pipeline's time over all frames
   };
   /// `csv_path`: the steps' CSV (empty: none). `keep`: also keep the final steps (plots).

@@ -114,7 +114,7 @@ uint32_t blobFlags(const cv::Mat& grey, const Blob& c, const BlobLabeller& lab, 
   clipped_px = std::max(n_sat, n_top);
   double elong = 1;
   psf = 0;
-  mom.shape(elong, psf);
+  mom.shape(elong, psf, opts.pixel_aspect);
   if (elong > opts.max_elongation) flags |= kElongated;
   // Extended: wider across its narrow axis than a PSF, beyond what a saturated core (a flat
   // disc of n_sat pixels: variance n_sat / (4 pi) per axis) explains.
@@ -191,7 +191,7 @@ double psfLimit(const cv::Mat& grey, const DetectorOptions& opts, Scratch& s, do
       n_top += v >= c.peak_raw;
     });
     double elong = 1, psf = 0;
-    mom.shape(elong, psf);
+    mom.shape(elong, psf, opts.pixel_aspect);
     if (n_top < 2 && elong <= opts.max_elongation && psf > 0) sig.push_back(psf);
   }
   if (sig.size() < 5) return opts.max_psf_sigma_px;

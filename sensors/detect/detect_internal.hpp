@@ -86,7 +86,9 @@ struct Moments {
     sxy += w * x * y;
   }
   Mat2 central() const;
-  void shape(double& elongation, double& sigma) const;
+  /// sqrt(l1 / l2) of the central moments and the PSF sigma [px] they give; `y_scale` (the
+  /// pixel aspect) stretches y first, so that binned rows' stars are round.
+  void shape(double& elongation, double& sigma, double y_scale = 1) const;
   /// The smaller eigenvalue of the central moments [px^2] (0 without light).
   double minorVariance() const;
 };

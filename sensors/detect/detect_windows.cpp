@@ -129,7 +129,7 @@ void measureRounds(const WindowScan& ws, double sat, const Centroider& main,
     } else {
       thresholdMoments<T>(ws, cw, area, mom);
       double elong = 1;
-      mom.shape(elong, psf);
+      mom.shape(elong, psf, opts.pixel_aspect);
       if (elong > opts.max_elongation) flags |= kElongated;
       if (opts.psf_sigma_px > 0) psf = opts.psf_sigma_px;
       psf = psf > 0 ? std::clamp(psf, 0.5, 5.0) : DetectorOptions::kAssumedPsfSigmaPx;

@@ -51,6 +51,8 @@ bool DetectorOptions::isValid(std::string* error) const {
     bad("min_separation_px", min_separation_px, "must be >= 0");
   else if (!(max_elongation >= 1))
     bad("max_elongation", max_elongation, "must be >= 1");
+  else if (!(pixel_aspect >= 0.125 && pixel_aspect <= 8))
+    bad("pixel_aspect", pixel_aspect, "must be in [0.125, 8]");
   else if (!(max_psf_sigma_px > 0))
     bad("max_psf_sigma_px", max_psf_sigma_px, "must be > 0");
   else if (!(hot_pixel_fraction > 0 && hot_pixel_fraction <= 1))

@@ -67,6 +67,10 @@ struct DetectorOptions {
   int max_stars = 100;          ///< keep the brightest this many
   double min_separation_px = 3.0;  ///< a centroid closer to a brighter one is the same star
   double max_elongation = 2.5;  ///< sqrt(lambda1/lambda2) of second moments above: kElongated
+  /// A pixel's height over its width on the sky (the camera's fx / fy; 2 for rows binned 2x):
+  /// blob shapes are judged with y stretched by it, so that a binned frame's round stars are
+  /// not elongated. The star tracker sets it from its camera, solve from the camera search.
+  double pixel_aspect = 1;
   /// peak / (3x3 flux above background) above this: kHotPixel. A Gaussian PSF of sigma
   /// >= 0.5 px puts at most 47% of its 3x3 light in one pixel; noise in the neighbours pulls a
   /// real hot pixel's ratio down to ~0.7 at 5 sigma.

@@ -49,12 +49,14 @@ Mat2 Moments::central() const {
   return m;
 }
 
-void Moments::shape(double& elongation, double& sigma) const {
+void Moments::shape(double& elongation, double& sigma, double y_scale) const {
   elongation = 1;
   sigma = 0;
   if (sw <= 0) return;
   const double mx = sx / sw, my = sy / sw;
-  const double a = sxx / sw - mx * mx, b = syy / sw - my * my, c = sxy / sw - mx * my;
+  // y in units of a pixel's width on the sky (binned rows are y_scale times taller).
+  const double a = sxx / sw - mx * mx, b = (syy / sw - my * my) * y_scale * y_scale,
+               c = (sxy / sw - mx * my) * y_scale;
   const double tr = 0.5 * (a + b);
   const double dd = std::sqrt(std::max(0.0, 0.25 * (a - b) * (a - b) + c * c));
   const double l1 = tr + dd, l2 = std::max(tr - dd, 1.0 / 12.0);

@@ -191,6 +191,10 @@ const SectionSchema<TrackerOptions>& trackerIniSchema() {
           .add("track_max_failed_frames", &T::max_failed_frames,
                "failed frames in a row: lost-in-space")
           .renamed("max_failed_frames", "track_max_failed_frames")
+          .add("track_reacquire_in_frame", &T::reacquire_in_frame,
+               "too few stars in the windows: lost-in-space in the same frame")
+          .add("track_reacquire_budget_s", &T::reacquire_budget_s,
+               "[s] time lost-in-space may take in that frame; 0 = no limit")
           .add("f2f_enabled", &T::frame_to_frame,
                "propagate our own attitudes when nothing is given")
           .renamed("frame_to_frame", "f2f_enabled")

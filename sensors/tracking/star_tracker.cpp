@@ -32,8 +32,11 @@ double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-const TrackerOptions& validated(const TrackerOptions& o) {
+/// Validated, with the detector judging blob shapes in the camera's pixel geometry (binned
+/// rows: fy = fx / 2).
+TrackerOptions forCamera(TrackerOptions o, const CameraModel& camera) {
   o.validate();
+  o.detect.pixel_aspect = camera.pixelAspect();
   return o;
 }
 
@@ -79,7 +82,7 @@ StarTracker::StarTracker(const StarDatabase& db, const CameraModel& camera,
                          TrackerOptions options)
     : db_(db),
       camera_(camera),
-      opts_(validated(options)),
+      opts_(forCamera(std::move(options), camera)),
       detector_(opts_.detect),
       R_bc_(opts_.R_body_cam),
       identifier_(StarIdentifier::create(opts_.lis_algorithm, opts_.identify)),
@@ -181,22 +184,22 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
       out.mode = StarTrackerMode::kTracking;
       failed_frames_ = 0;
       predictor_.addTrackingFix(fix);
-    } else if (source == PredictionSource::kRateMatch &&
+    } else if ((source == PredictionSource::kRateMatch || opts_.reacquire_in_frame) &&
                (out.failure == FrameFailure::kTooFewInGate ||
                 out.failure == FrameFailure::kTooFewPredicted)) {
-      // Re-acquisition: nothing independent of our own last fixes predicted this frame, and
-      // its stars are not where they were going: the scene changed (an unrelated frame, a
-      // slew the rate match did not see). Waiting for more failures would only lose frames.
+      // Re-acquisition: the stars are not where they were going: the scene changed (an
+      // unrelated frame, a slew nothing saw). Waiting for more failures would only lose
+      // frames; the same frame is solved lost-in-space, within its budget.
       const std::string why = out.detail;
       reset();
       out = FrameResult{};
       out.R_body_cam = R_bc_;
-      if (lostInSpace(image, rate_cam, out, fix)) {
+      if (lostInSpace(image, rate_cam, out, fix, opts_.reacquire_budget_s)) {
         acceptLostInSpace(rate_cam, fix, out);
       } else {
         reset();
       }
-      out.detail = why + "; lost-in-space at once" + (out.detail.empty() ? "" : ": " + out.detail);
+      out.detail = why + "; " + kReacquiredNote + (out.detail.empty() ? "" : ": " + out.detail);
       out.fell_back_to_lost_in_space = true;
     } else if (++failed_frames_ >= opts_.max_failed_frames) {
       out.detail += "; " + std::to_string(failed_frames_) + " failed frames: back to lost-in-space";
@@ -256,8 +259,12 @@ Vec2 StarTracker::imageCentre() const {
 }
 
 bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam,
-                              FrameResult& out, CameraFix& fix) {
+                              FrameResult& out, CameraFix& fix, double budget_s) {
   const auto t0 = Clock::now();
+  SearchLimits limits;
+  if (budget_s > 0)
+    limits.deadline = t0 + std::chrono::duration_cast<Clock::duration>(
+                               std::chrono::duration<double>(budget_s));
   detector_.detect(image, det_);  // built once: no validation or allocation per frame
   DetectionResult& det = det_;
   std::optional<Vec3> streak_rate;  // the gyro's rate, or one that draws the shapes' streak
@@ -285,7 +292,7 @@ bool StarTracker::lostInSpace(const cv::Mat& image, const std::optional<Vec3>& r
   // The same driver as `solve` (identify/plate_solve.hpp), with the tracker's one camera and
   // the normal parity: a camera file's frame is a proper rotation of the sky.
   FovSearchResult found = st::lostInSpace(det.stars, camera_.width(), camera_.height(), db_,
-                                      *identifier_, lis, floor_px, ParityChoice::Normal)
+                                      *identifier_, lis, floor_px, ParityChoice::Normal, limits)
                               .search;
   const IdentifyResult& res = found.result;
   const std::vector<StarObservation>& obs = found.obs;

@@ -21,11 +21,12 @@
 ///  - rate: every fix whose stars share >= 2 catalog ids with the last solved frame (no
 ///    older than max_propagation_s) carries the body rate between the two (FrameResult::rate,
 ///    frame_rate.hpp: relative attitude of the two frames, seed 004 eq. 7.1).
-///  - re-acquisition: a frame-to-frame prediction (no filter, no gyro: nothing independent
-///    of the tracker's own last fixes) whose windows find too few stars is not retried on
-///    the next frames: the same frame goes to lost-in-space at once. With a filter's or a
-///    gyro's prediction a few failed frames are a transient (a blinded frame), so those wait
-///    for max_failed_frames.
+///  - re-acquisition: a prediction whose windows find too few stars (the scene changed: an
+///    unrelated frame, a jump) is not retried on the next frames: the same frame goes to
+///    lost-in-space at once, within reacquire_budget_s (TrackerOptions::reacquire_in_frame;
+///    off, only a frame-to-frame prediction does so and a filter's or a gyro's waits for
+///    max_failed_frames). Other failures (the solve, the prediction-consistency test) count
+///    towards max_failed_frames.
 ///
 /// The camera (issue 19): the camera file is a starting point, not the truth. Lost-in-space
 /// identifies with it as it is and, when that fails before any fix has verified the camera,
@@ -69,6 +70,15 @@
 
 namespace st {
 
+/// The note a frame's detail carries when its windows found too few stars and it was solved
+/// lost-in-space in the same frame (TrackerOptions::reacquire_in_frame): summaries count
+/// such re-acquisitions by it (reacquiredInFrame).
+constexpr const char* kReacquiredNote = "lost-in-space in the same frame";
+/// True for a frame solved by such a re-acquisition (its mode and recorded detail).
+inline bool reacquiredInFrame(StarTrackerMode mode, const std::string& detail) {
+  return mode == StarTrackerMode::kLostInSpace && detail.find(kReacquiredNote) != std::string::npos;
+}
+
 class StarTracker {
  public:
   /// Throws InputError naming the option when `options` is unusable (TrackerOptions::isValid).
@@ -104,8 +114,9 @@ class StarTracker {
   /// residual test fails; nullopt on success.
   std::optional<Failure> solveTracked(const CameraPrediction& pred, FrameResult& out,
                                       CameraFix& fix);
+  /// `budget_s` > 0: the search stops after that long (SearchLimits::deadline).
   bool lostInSpace(const cv::Mat& image, const std::optional<Vec3>& rate_cam, FrameResult& out,
-                   CameraFix& fix);
+                   CameraFix& fix, double budget_s = 0);
   /// Re-measures full-frame streaks (detect/streaks.hpp) from the measured rate, else from
   /// the blobs' shapes; returns the camera-frame rate that draws them (the measured one, or
   /// the cross-boresight rate of the shapes' streak), nothing for round stars.

@@ -33,6 +33,8 @@ const char* badNumber(const TrackerOptions& o, const char** why) {
       {o.consistency_probability > 0 && o.consistency_probability < 0.5,
        "consistency_probability", "in (0, 0.5)"},
       {o.max_failed_frames >= 1, "max_failed_frames", "must be >= 1"},
+      {o.reacquire_budget_s >= 0 && o.reacquire_budget_s <= 3600, "reacquire_budget_s",
+       "must be in [0, 3600] s (0 = no limit)"},
       {o.max_propagation_s > 0, "max_propagation_s", "must be > 0"},
       {o.accel_sigma >= 0, "accel_sigma", "must be >= 0"},
       {o.gyro_sigma >= 0, "gyro_sigma", "must be >= 0"},

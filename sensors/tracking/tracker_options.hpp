@@ -57,6 +57,15 @@ struct TrackerOptions {
   double loss_probability = 1e-3;     ///< false-alarm rate of the chi-square loss test
   double consistency_probability = 1e-3;  ///< of the prediction-consistency test
   int max_failed_frames = 3;      ///< consecutive failed tracking frames -> lost-in-space
+  /// A frame whose windows find too few stars (too-few-in-gate, too-few-predicted) is solved
+  /// lost-in-space at once, in the same frame, whatever predicted it: consecutive frames can
+  /// be unrelated (minutes apart, after a tumble, a slideshow through a folder), and waiting
+  /// for max_failed_frames loses them. Without it only a prediction from our own last fixes
+  /// (the rate match) does so.
+  bool reacquire_in_frame = true;
+  /// [s] the time that lost-in-space may take in such a frame (0 = no limit): the next frame
+  /// must not wait behind a search in a sky it cannot solve.
+  double reacquire_budget_s = 0.5;
 
   // --- frame-to-frame prediction ---
   bool frame_to_frame = true;     ///< propagate our own attitudes when nothing is given

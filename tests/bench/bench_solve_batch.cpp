@@ -6,11 +6,23 @@
 //                           Target < 8 ms per frame on one core.
 //   BM_DatabaseCacheHit     the in-memory database of those frames read back from the disk
 //                           cache (what a second `solve` process pays). Target < 25 ms.
+//   BM_InflightFrame        one of the 15 Swarm frames of 2014-11-17 (tests/data/swarm; 752x290
+//                           8-bit PNG, rows binned 2x, radiation hits) per iteration, with its
+//                           head's camera calibrated on the 2014-10-21 frames (`calibrate`,
+//                           docs/inflight/): PNG decoding, detection with the hit rule,
+//                           identification, attitude. Target <= 10 ms (issue 34).
+//   BM_InflightFrameNominalCamera  the same with the nominal binned camera file
+//                           (docs/inflight/swarm_str.yaml): its aspect is 4 % off, so most
+//                           frames are solved by healing it (fx, fy searched and fitted).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "catalog/database_cache.hpp"
 #include "solve/plate_solver.hpp"
@@ -67,6 +79,41 @@ void BM_DatabaseCacheHit(benchmark::State& state) {
   state.counters["target_us"] = 25000;  // issue 15
 }
 BENCHMARK(BM_DatabaseCacheHit)->Unit(benchmark::kMillisecond);
+
+/// The November frames of the Swarm heads, each with the solver of its head.
+void inflight(benchmark::State& state, bool calibrated) {
+  log::setVerbosity(log::Verbosity::kQuiet);
+  useOwnCache();
+  std::vector<std::pair<std::string, const solve::PlateSolver*>> frames;
+  std::vector<std::unique_ptr<solve::PlateSolver>> solvers;
+  for (const char* head : {"A", "B", "C"}) {
+    solve::SolveOptions o;
+    o.no_aberration = true;
+    o.camera.camera_file = test::repoDir() + "/docs/inflight/swarm_str" +
+                           (calibrated ? std::string(1, char(head[0] + 32)) + "_calibrated" : "") +
+                           ".yaml";
+    solvers.push_back(std::make_unique<solve::PlateSolver>(o));
+    for (const std::string& f : test::swarmFrames())
+      if (f.find(std::string("SWA_Str") + head + "_2014-11-17") != std::string::npos)
+        frames.emplace_back(f, solvers.back().get());
+  }
+  for (const auto& [f, solver] : frames) solver->solveFile(f);  // databases built, caches warm
+  std::size_t k = 0, solved = 0;
+  for (auto _ : state) {
+    const auto& [path, solver] = frames[k++ % frames.size()];
+    auto out = solver->solveFile(path);
+    solved += out->code == 0;
+    benchmark::DoNotOptimize(out);
+  }
+  state.counters["solved_fraction"] = double(solved) / double(k);
+  state.counters["target_us"] = 10000;  // issue 34
+}
+
+void BM_InflightFrame(benchmark::State& state) { inflight(state, true); }
+BENCHMARK(BM_InflightFrame)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+void BM_InflightFrameNominalCamera(benchmark::State& state) { inflight(state, false); }
+BENCHMARK(BM_InflightFrameNominalCamera)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 }  // namespace
 }  // namespace st

@@ -35,6 +35,7 @@ constexpr double kBrightAdu = 60;
 Tally tally(const test::InflightSimulator& sim, int frames, double mean_hits, bool rule) {
   DetectorOptions o;
   o.flag_hits = rule;
+  o.pixel_aspect = test::inflightCamera().pixelAspect();  // as solve and the tracker set it
   StarDetector det(o);
   Tally t;
   for (int k = 0; k < frames; ++k) {
