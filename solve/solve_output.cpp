@@ -136,6 +136,13 @@ nlohmann::ordered_json starsJson(const SolveReport& r, const Photometry& p) {
 /// RA/Dec [rad] of the image's centre pixel ((w-1)/2, (h-1)/2): the boresight is the
 /// principal point's direction, which a calibrated camera puts elsewhere. The centre is its
 /// own mirror image, so a flipped solution's un-mirrored camera gives it too.
+/// What detection made of the frame (an image's; zeros for a star list).
+static nlohmann::ordered_json detectionJson(const SolveReport& r) {
+  return {{"radiation_hits", r.in.hits},
+          {"rejected_blobs", r.in.rejected.size()},
+          {"psf_width_px", {r.in.psf_width_x, r.in.psf_width_y}}};
+}
+
 static void imageCentreRaDec(const SolveReport& r, double& ra, double& dec) {
   const CameraModel& cam = r.ps.search.camera;
   const Vec2 centre(0.5 * (r.in.width - 1), 0.5 * (r.in.height - 1));
@@ -172,6 +179,7 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
   const Vec3 v = r.frame.velocity(r.epoch.jyear);
   j["aberration_velocity_km_s"] = {v.x(), v.y(), v.z()};
   j["camera"] = cameraJson(r);
+  j["detection"] = detectionJson(r);
   const Photometry phot = photometry(r);
   j["photometry"] = photometryJson(phot);
   j["stars"] = starsJson(r, phot);
@@ -184,14 +192,16 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
 
 nlohmann::ordered_json failureJson(const SolveReport& r) {
   const IdentifyResult& res = r.ps.search.result;
-  return {{"solved", false},
-          {"status", res.solved() ? "error" : toString(res.status)},
-          {"reason", r.failure},
-          {"image", r.o.input},
-          {"stars_detected", r.in.stars.size()},
-          {"parities_tried", r.ps.parities_tried},
-          {"cpu_limit_reached", r.ps.search.cpu_limit_reached},
-          {"exit_code", 1}};
+  nlohmann::ordered_json j = {{"solved", false},
+                              {"status", res.solved() ? "error" : toString(res.status)},
+                              {"reason", r.failure},
+                              {"image", r.o.input},
+                              {"stars_detected", r.in.stars.size()},
+                              {"parities_tried", r.ps.parities_tried},
+                              {"cpu_limit_reached", r.ps.search.cpu_limit_reached}};
+  j["detection"] = detectionJson(r);
+  j["exit_code"] = 1;
+  return j;
 }
 
 nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {

@@ -12,7 +12,9 @@
 ///    "database_epoch_jyear", "catalog" (the catalog's name), "catalog_id" ("HIP", "HR"),
 ///    "frame": "apparent" | "astrometric" (celestial_frame.hpp), "aberration_velocity_km_s"
 ///    [x, y, z] (ICRS axes; the observer's velocity the apparent frame is for, zero for
-///    astrometric),
+///    astrometric), "camera" (camera_report.hpp),
+///    "detection": {"radiation_hits" (flagged, kept, ranked last), "rejected_blobs",
+///    "psf_width_px" [x, y] (the PSF's three-pixel width the hit rule measured, 0 unknown)},
 ///    "photometry": {"fitted", "exposure_s" (1: unknown to solve, the zero point holds it),
 ///    "zero_point", "zero_point_se", "colour_term", "colour_term_se" (null when not fitted),
 ///    "off_axis_exponent", "off_axis_exponent_fitted", "off_axis_exponent_se", "scatter_mag",
@@ -25,7 +27,7 @@
 ///    {"load", "detect", "database", "identify", "pattern", "verify", "total"}};
 ///  - not solved (exit 1): {"solved": false, "status" (IdentifyStatus or "error"),
 ///    "reason", "image", "stars_detected", "parities_tried", "cpu_limit_reached",
-///    "exit_code": 1};
+///    "detection" (as above), "exit_code": 1};
 ///  - an error ended the run: {"solved": false, "status": "error", "error": message,
 ///    "exit_code": 2 for bad input (file, flag, value), 1 otherwise}; in a batch also "image".
 /// A batch prints one object per frame, one per line (JSON Lines), in input order.

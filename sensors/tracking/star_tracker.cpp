@@ -189,18 +189,35 @@ FrameResult StarTracker::process(const cv::Mat& image, double t_s, const FrameIn
                 out.failure == FrameFailure::kTooFewPredicted)) {
       // Re-acquisition: the stars are not where they were going: the scene changed (an
       // unrelated frame, a slew nothing saw). Waiting for more failures would only lose
-      // frames; the same frame is solved lost-in-space, within its budget.
+      // frames; the same frame is solved lost-in-space, within its budget. When that fails
+      // too, a prediction of our own fixes is dropped (nothing else vouches for it), a gyro's
+      // or a filter's stays for max_failed_frames (a blinded frame is a transient).
       const std::string why = out.detail;
-      reset();
-      out = FrameResult{};
-      out.R_body_cam = R_bc_;
-      if (lostInSpace(image, rate_cam, out, fix, opts_.reacquire_budget_s)) {
-        acceptLostInSpace(rate_cam, fix, out);
-      } else {
+      const bool own = source == PredictionSource::kRateMatch;
+      if (own) reset();
+      FrameResult lis;
+      lis.R_body_cam = R_bc_;
+      CameraFix lis_fix;
+      lis_fix.t_s = t_s;
+      if (lostInSpace(image, rate_cam, lis, lis_fix, opts_.reacquire_budget_s)) {
         reset();
+        out = std::move(lis);
+        fix = lis_fix;
+        acceptLostInSpace(rate_cam, fix, out);
+        out.detail = why + "; " + kReacquiredNote + (out.detail.empty() ? "" : ": " + out.detail);
+        out.fell_back_to_lost_in_space = true;
+      } else if (own) {
+        out = std::move(lis);
+        out.detail = why + "; " + kReacquiredNote + ": " + out.detail;
+        out.fell_back_to_lost_in_space = true;
+      } else {
+        out.detail = why + "; " + kReacquiredNote + " failed too: " + lis.detail;
+        if (++failed_frames_ >= opts_.max_failed_frames) {
+          out.detail += "; " + std::to_string(failed_frames_) + " failed frames: back to lost-in-space";
+          out.fell_back_to_lost_in_space = true;
+          reset();
+        }
       }
-      out.detail = why + "; " + kReacquiredNote + (out.detail.empty() ? "" : ": " + out.detail);
-      out.fell_back_to_lost_in_space = true;
     } else if (++failed_frames_ >= opts_.max_failed_frames) {
       out.detail += "; " + std::to_string(failed_frames_) + " failed frames: back to lost-in-space";
       out.fell_back_to_lost_in_space = true;
