@@ -54,14 +54,16 @@ void Moments::shape(double& elongation, double& sigma, double y_scale) const {
   sigma = 0;
   if (sw <= 0) return;
   const double mx = sx / sw, my = sy / sw;
-  // y in units of a pixel's width on the sky (binned rows are y_scale times taller).
-  const double a = sxx / sw - mx * mx, b = (syy / sw - my * my) * y_scale * y_scale,
-               c = (sxy / sw - mx * my) * y_scale;
-  const double tr = 0.5 * (a + b);
-  const double dd = std::sqrt(std::max(0.0, 0.25 * (a - b) * (a - b) + c * c));
+  const double a = sxx / sw - mx * mx, b = syy / sw - my * my, c = sxy / sw - mx * my;
+  // The PSF sigma in pixels (the centroiders' unit); the elongation with y in units of a
+  // pixel's width on the sky (binned rows are y_scale times taller), so that binned stars
+  // are round.
+  sigma = std::sqrt(std::max(0.5 * (a + b) - 1.0 / 12.0, 0.0));
+  const double bs = b * y_scale * y_scale, cs = c * y_scale;
+  const double tr = 0.5 * (a + bs);
+  const double dd = std::sqrt(std::max(0.0, 0.25 * (a - bs) * (a - bs) + cs * cs));
   const double l1 = tr + dd, l2 = std::max(tr - dd, 1.0 / 12.0);
   elongation = std::sqrt(l1 / l2);
-  sigma = std::sqrt(std::max(tr - 1.0 / 12.0, 0.0));
 }
 
 double Moments::minorVariance() const {
