@@ -195,6 +195,24 @@ mutant mc-required-mag app/montecarlo/exp_star_count.cpp \
   's/if \(lowest >= n_min\)/if (lowest > n_min)/' \
   "$APP st_test_app" 'SeedTables.*' \
   "seed 004 Table 5.1: the smallest limit whose minimum star count reaches N"
+# Radiation hits (issue 34, sensors/detect/radiation_hits.hpp).
+DT=st_test_detect
+mutant hit-rule-detect sensors/detect/detect_frame.cpp \
+  's/      flags \|= kRadiationHit;/      (void)kRadiationHit;/' \
+  "$DT $ID" 'RadiationHits.*:InflightLis.*' \
+  "issue 34: a blob bare along x, y or a diagonal against the frame's PSF is a radiation hit"
+mutant hit-rule-window sensors/detect/detect_windows.cpp \
+  's/  if \(opts.flag_hits \&\& !ws.streak \&\&/  if (false \&\& opts.flag_hits \&\& !ws.streak \&\&/' \
+  "$DT" 'RadiationHits.*' \
+  "issue 34: a tracking window refuses a hit at its peak"
+mutant hit-ranked-last sensors/detect/detect_frame.cpp \
+  's/return \(c.flags \& kRadiationHit\) \? 2 :/return (c.flags \& kRadiationHit) ? 0 :/' \
+  "$DT" 'RadiationHits.*' \
+  "issue 34: hits ranked after every star"
+mutant hit-psf-cluster sensors/detect/radiation_hits.cpp \
+  's/return std::abs\(std::log\(a.x \/ b.x\)\) < tol \&\& std::abs\(std::log\(a.y \/ b.y\)\) < tol;/return (void)a, (void)b, (void)tol, true;/' \
+  "$DT $ID" 'RadiationHits.*:InflightLis.*' \
+  "issue 34: the frame's PSF is the largest tight cluster of blob widths (not all blobs' median)"
 mutant mc-psf-width app/montecarlo/exp_magnitude_error.cpp \
   's/s.psf_sigma_px = kPsfWidthPx \/ 4;/s.psf_sigma_px = kPsfWidthPx \/ 2.3548200450309493;/' \
   "$APP st_test_app" 'SeedTables.*' \
