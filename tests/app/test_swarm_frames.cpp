@@ -17,6 +17,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -110,6 +113,44 @@ TEST(SwarmFrames, SlowPixelAspectTwoWithoutCameraSolvesTwentySevenOfThirty) {
   EXPECT_EQ(t.frames, 30);
   EXPECT_GE(t.within, 27);
   EXPECT_EQ(t.wrong, 0);
+}
+
+// One head's frames as a sequence (issue 34): MRPT's image_dir grabber plays the ten StrA
+// frames into `live` (the nominal binned camera, the epoch of the frames), which records a
+// rawlog that `replay` runs again. Unrelated frames (10 minutes apart on orbit): every one
+// solved lost-in-space, in live (windows that find nothing re-acquire in the frame) and in
+// replay.
+TEST(SwarmFrames, SlowOneHeadLiveThenReplayedSolvesEveryFrameLostInSpace) {
+  const std::string dir = test::makeTempDir("swarm_live");
+  std::filesystem::create_directories(dir + "/frames");
+  int k = 0;
+  for (const std::string& f : test::swarmFrames())
+    if (f.find("SWA_StrA_") != std::string::npos)
+      std::filesystem::create_symlink(f, dir + "/frames/frame_0" + std::to_string(k++) + ".png");
+  ASSERT_EQ(k, 10);
+  std::filesystem::copy_file(test::repoDir() + "/docs/inflight/swarm_str.yaml",
+                             dir + "/frames/cam.yaml");
+  std::ifstream example(test::repoDir() + "/rawlogs/live_camera_image_dir.ini");
+  std::stringstream text;
+  text << example.rdbuf();
+  std::string ini = text.str();
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"frame_%02d.tiff", "frame_%02d.png"},
+           {"end_index             = 7", "end_index             = 9"},
+           {"epoch_jyear    = 2019.57", "epoch_jyear    = 2014.8"}}) {
+    const std::size_t at = ini.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    ini.replace(at, from.size(), to);
+  }
+  std::ofstream(dir + "/live.ini") << ini;
+  const test::CliRun live = test::runCli("live live.ini -o strA.rawlog --duration 5", dir);
+  ASSERT_EQ(live.code, 0) << live.err;
+  const std::string both = live.out + live.err;
+  EXPECT_NE(both.find("star tracker: 10 frames, 10 solved"), std::string::npos) << both;
+  const test::CliRun replay = test::runCli("replay strA.rawlog -q", dir);
+  ASSERT_EQ(replay.code, 0) << replay.err;
+  EXPECT_NE(replay.out.find("frames: 10, solved 100.0 %, lost-in-space 10"), std::string::npos)
+      << replay.out;
 }
 
 // The reference test itself has teeth: a WCS shifted by 5 px is unsound.
