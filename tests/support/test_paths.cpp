@@ -22,23 +22,22 @@ std::string hipparcosSubsetPath() { return repoDir() + "/catalog/data/hip_main_v
 
 std::string tetra3ImageDir() { return repoDir() + "/tests/data/tetra3"; }
 
-std::vector<std::string> tetra3Frames() {
+namespace {
+/// The files of `dir` ending in `extension`, sorted by name.
+std::vector<std::string> filesIn(const std::string& dir, const std::string& extension) {
   std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(tetra3ImageDir()))
-    if (e.path().extension() == ".tiff") out.push_back(e.path().string());
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == extension) out.push_back(e.path().string());
   std::sort(out.begin(), out.end());
   return out;
 }
+}  // namespace
+
+std::vector<std::string> tetra3Frames() { return filesIn(tetra3ImageDir(), ".tiff"); }
 
 std::string swarmImageDir() { return repoDir() + "/tests/data/swarm"; }
 
-std::vector<std::string> swarmFrames() {
-  std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(swarmImageDir()))
-    if (e.path().extension() == ".png") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
+std::vector<std::string> swarmFrames() { return filesIn(swarmImageDir(), ".png"); }
 
 std::string bsc5Path() { return repoDir() + "/catalog/data/bsc5"; }
 
