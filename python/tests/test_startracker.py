@@ -148,3 +148,19 @@ def test_threads_solve_concurrently_with_the_gil_released():
     for th in threads:
         th.join()
     assert all(r["solved"] for r in results)
+
+
+def test_binned_in_flight_frame_with_pixel_aspect_equals_the_command_line():
+    """Issue 34: the same option in the library as on the command line (`--pixel-aspect 2`),
+    on a real Swarm frame (rows binned 2x): the same answer, and a picture twice as tall as
+    wide per pixel is what made it solvable (square pixels do not solve it)."""
+    path = REPO / "tests" / "data" / "swarm" / "SWA_StrA_2014-10-21T10h30m10.000Z_151.png"
+    out = subprocess.run([EXE, "solve", "--no-cache", "--pixel-aspect", "2", "--fov-range", "14",
+                          "22", "--json", str(path)], capture_output=True, text=True, check=False)
+    cli = json.loads(out.stdout)
+    assert cli["solved"], cli
+    r = startracker.solve_file(str(path), pixel_aspect=2, fov_range=(14, 22), no_cache=True)
+    assert without_timings(r) == without_timings(cli)
+    assert r["camera"]["fx"] / r["camera"]["fy"] == pytest.approx(1.93, abs=0.01)
+    square = startracker.solve_file(str(path), fov_range=(14, 22), no_cache=True)
+    assert not square["solved"]
