@@ -180,6 +180,15 @@ nlohmann::ordered_json solutionJson(const SolveReport& r) {
   j["aberration_velocity_km_s"] = {v.x(), v.y(), v.z()};
   j["camera"] = cameraJson(r);
   j["detection"] = detectionJson(r);
+  // The residuals against the centroids' own sigmas (model-error term included): chi-square
+  // with 2n - 3 degrees of freedom when the covariances are honest (clipped stars too).
+  double chi2 = 0;
+  for (const StarMatch& m : res.matches) {
+    const double s = r.ps.search.obs[m.obs_index].sigma;
+    chi2 += s > 0 ? (m.residual / s) * (m.residual / s) : 0;
+  }
+  j["residual_chi2"] = chi2;
+  j["residual_dof"] = 2 * static_cast<int>(res.matches.size()) - 3;
   const Photometry phot = photometry(r);
   j["photometry"] = photometryJson(phot);
   j["stars"] = starsJson(r, phot);

@@ -13,6 +13,8 @@
 ///    "frame": "apparent" | "astrometric" (celestial_frame.hpp), "aberration_velocity_km_s"
 ///    [x, y, z] (ICRS axes; the observer's velocity the apparent frame is for, zero for
 ///    astrometric), "camera" (camera_report.hpp),
+///    "residual_chi2" (the matched stars' residuals over their centroid sigmas, squared and
+///    summed), "residual_dof" (2 n - 3: chi2 / dof near 1 for honest covariances),
 ///    "detection": {"radiation_hits" (flagged, kept, ranked last), "rejected_blobs",
 ///    "psf_width_px" [x, y] (the PSF's three-pixel width the hit rule measured, 0 unknown)},
 ///    "photometry": {"fitted", "exposure_s" (1: unknown to solve, the zero point holds it),
