@@ -29,8 +29,9 @@ solve::SolveOptions stageOptions(const SolveOptions& o) {
   if (!o.algorithm.empty()) c.algorithm = o.algorithm;
   if (!o.solver.empty()) c.solver = o.solver;
   c.mag_limit = o.mag_limit;
-  if (o.epoch_jyear && !(*o.epoch_jyear > 0))
-    throw InputError("epoch_jyear " + std::to_string(*o.epoch_jyear) + ": must be > 0");
+  if (o.epoch_jyear && !(*o.epoch_jyear >= 1000 && *o.epoch_jyear <= 3000))
+    throw InputError("epoch_jyear " + std::to_string(*o.epoch_jyear) +
+                     ": must be a Julian year in [1000, 3000] (as solve's --epoch)");
   c.epoch = o.epoch_jyear.value_or(0);
   c.max_stars = o.max_stars;
   c.min_sigma_px = o.min_sigma_px.value_or(-1);

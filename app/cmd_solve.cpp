@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "app/camera_flags.hpp"
+#include "app/cli/validators.hpp"
 #include "app/command.hpp"
 #include "sensors/attitude/wahba.hpp"
 #include "sensors/identify/identifier.hpp"
@@ -83,7 +84,8 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
       ->capture_default_str();
   cmd->add_option("--epoch", o->epoch,
                   "Observation epoch [Julian year] (default: from FITS DATE-OBS or the file "
-                  "name, else the --database's epoch, else today)");
+                  "name, else the --database's epoch, else today)")
+      ->check(cli::Number(1000, 3000));  // a typo (0, -1, 999) is refused, not ignored
   cmd->add_option("--max-stars", o->max_stars, "Brightest stars used to form patterns")
       ->check(CLI::Range(4, 100))
       ->capture_default_str();

@@ -58,6 +58,19 @@ TEST(SolveCli, TextReportCountsFovsOnlyForASearch) {
   EXPECT_TRUE(std::regex_search(searched, std::regex("[1-9][0-9]* FOVs tried"))) << searched;
 }
 
+// Issue 39: `--epoch 0` or `--epoch -1` was ignored (the file name's epoch used) while 999
+// was refused deep in the database: every value outside a Julian year is refused at once,
+// naming the flag, exit 2.
+TEST(SolveCli, EpochOutsideAJulianYearIsRefusedNamingTheFlag) {
+  for (const char* bad : {"0", "-1", "999", "nan"}) {
+    std::string out;
+    EXPECT_EQ(test::runCommand(test::startrackerExe() + " solve --fov-deg 11.4 --epoch " + bad +
+                                   " '" + realFrame() + "'", &out),
+              2) << bad << ": " << out;
+    EXPECT_NE(out.find("--epoch"), std::string::npos) << bad << ": " << out;
+  }
+}
+
 TEST(SolveCli, BlackFrameExitsOneWithAReason) {
   const std::string path = test::makeTempDir("solve") + "/black.png";
   cv::imwrite(path, cv::Mat::zeros(480, 640, CV_8UC1));
