@@ -180,8 +180,13 @@ void printReport(const std::vector<SolvedFrame>& solved, const CameraFitResult& 
 int runCalibrate(const CalibrateOptions& o) {
   if (o.fov_range_deg.size() != 2 || !(o.fov_range_deg[0] > 0) || o.fov_range_deg[1] < o.fov_range_deg[0])
     throw InputError("--fov-range needs MIN MAX in degrees with 0 < MIN <= MAX");
-  prepareOutputFile(o.output, "-o");
   const std::vector<std::string> files = imageFiles(o.inputs);
+  std::vector<NamedPath> inputs;
+  for (const std::string& f : files) inputs.push_back({f, "an input frame"});
+  inputs.push_back({o.camera.camera_file, "--camera"});
+  inputs.push_back({o.database, "--database"});
+  refuseSameFile(o.output, "-o", inputs);
+  prepareOutputFile(o.output, "-o");
   imageio::LoadedImage first = imageio::loadImage(files.front());
   const double epoch = o.epoch > 0 ? o.epoch : first.epoch_jyear.value_or(2025.0);
   if (o.epoch <= 0)

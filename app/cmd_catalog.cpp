@@ -194,6 +194,8 @@ int runBuild(const CatalogBuildOptions& o) {
   std::string how;
   const double diag = diagonalFov(o, how);
   const DatabaseParams p = buildParams(o, diag);
+  refuseSameFile(o.out, "--output",
+                 {{o.catalog_path, "--catalog"}, {o.camera.camera_file, "--camera"}});
   prepareOutputFile(o.out, "--output");
   log::info("camera: %s; pairs up to %.3f deg", how.c_str(), rad2deg(p.max_pair_angle));
   log::info("loading %s", o.catalog_path.c_str());

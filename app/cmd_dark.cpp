@@ -35,8 +35,11 @@ std::string describeType(const cv::Mat& m) {
 }
 
 int runDark(const DarkArgs& a) {
-  prepareOutputFile(a.output, "-o/--output");
   const std::vector<std::string> files = solve::expandInputs(a.inputs);
+  std::vector<NamedPath> inputs;
+  for (const std::string& f : files) inputs.push_back({f, "an input frame"});
+  refuseSameFile(a.output, "-o/--output", inputs);
+  prepareOutputFile(a.output, "-o/--output");
   if (static_cast<int>(files.size()) < kMinDarkFrames)
     throw InputError("dark: " + std::to_string(files.size()) + " frame(s) given; the median needs at least " +
                      std::to_string(kMinDarkFrames));

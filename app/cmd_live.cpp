@@ -325,6 +325,10 @@ int runLive(const LiveArgs& args) {
   prepareOutputFile(replayConfigPath(out_path).string(), "-o");
   if (!args.csv.empty()) {
     checked.csv = fs::absolute(args.csv).lexically_normal().string();
+    refuseSameFile(checked.csv, "--csv",
+                   {{out_path.string(), "the recording"},
+                    {replayConfigPath(out_path).string(), "the recording's replay .ini"},
+                    {args.config, "the live .ini"}});
     prepareOutputFile(checked.csv, "--csv");
   }
   fs::current_path(config.parent_path());  // the .ini's relative paths

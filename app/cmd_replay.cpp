@@ -155,6 +155,7 @@ void prepareOutputs(const ReplayOpts& o) {
                        ": the output rawlog must differ from the input");
     prepareOutputFile(o.output, "-o/--output");
   }
+  refuseSameFile(o.csv, "--csv", {{o.rawlog, "the input rawlog"}, {o.output, "-o/--output"}});
   if (!o.csv.empty()) prepareOutputFile(o.csv, "--csv");
   if (!o.plots.empty()) prepareOutputDir(o.plots, "--plots");
 }

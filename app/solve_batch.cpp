@@ -33,6 +33,14 @@ void checkBeforeWork(const SolveOptions& o, std::size_t frames) {
     throw InputError(std::string(o.annotate.empty() ? "--wcs" : "--annotate") +
                      ": one output file for " + std::to_string(frames) +
                      " frames; give it with one image");
+  std::vector<NamedPath> inputs;
+  for (const std::string& in : o.inputs) inputs.push_back({in, "an input"});
+  if (!o.camera.camera_file.empty()) inputs.push_back({o.camera.camera_file, "--camera"});
+  if (!o.database.empty()) inputs.push_back({o.database, "--database"});
+  if (!o.dark.empty()) inputs.push_back({o.dark, "--dark"});
+  refuseSameFile(o.annotate, "--annotate", inputs);
+  refuseSameFile(o.wcs, "--wcs", inputs);
+  refuseSameFile(o.wcs, "--wcs", {{o.annotate, "--annotate"}});
   if (!o.annotate.empty()) {
     if (!imageio::isPngPath(o.annotate))
       throw InputError("--annotate " + o.annotate + ": the picture is a PNG (name it .png)");

@@ -37,6 +37,22 @@ void prepareOutputFile(const std::string& path, const std::string& flag) {
   proveWritable(path, flag, path);
 }
 
+void refuseSameFile(const std::string& path, const std::string& flag,
+                    const std::vector<NamedPath>& others) {
+  if (path.empty()) return;
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(fs::absolute(path), ec);
+  for (const NamedPath& o : others) {
+    if (o.path.empty()) continue;
+    std::error_code ec2, ec3;
+    const fs::path b = fs::weakly_canonical(fs::absolute(o.path), ec2);
+    const bool same = (!ec && !ec2 && a == b) || fs::equivalent(path, o.path, ec3);
+    if (same)
+      throw InputError(flag + " " + path + ": the same file as " + o.name + " (" + o.path +
+                       "); an output never overwrites it");
+  }
+}
+
 void prepareOutputDir(const std::string& dir, const std::string& flag) {
   if (dir.empty()) throw InputError(flag + ": empty path");
   createFolders(dir, flag, dir);
