@@ -74,7 +74,7 @@ TEST(CliNumbers, EveryCommandRefusesWrappedAndNonFiniteNumbers) {
   expectRefused("live live.ini --duration nan", "--duration must be a finite number, got nan");
   expectRefused("camera --fov-deg nan --size 640 480", "--fov-deg must be a finite number");
   expectRefused("camera --fov-deg 10 --size 640 -480", "--size must be a whole number >= 1");
-  expectRefused("solve x.png --epoch inf", "--epoch must be a finite number, got inf");
+  expectRefused("solve x.png --epoch inf", "--epoch must be a finite number from 1000 to 3000, got inf");
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ TEST(CliParseErrors, FlagsNamedAsTyped) {
   expectUsageError("montecarlo star-count -j -3", "-j must be a whole number >= 0, got -3");
   expectUsageError("montecarlo star-count --threads -3", "--threads must be a whole number >= 0");
   expectUsageError("solve x.png --fov-range 5", "--fov-range takes 2 values, got 1");
-  expectUsageError("solve x.png --epoch=abc", "--epoch must be a number, got 'abc'");
+  expectUsageError("solve x.png --epoch=abc", "--epoch must be a number from 1000 to 3000, got 'abc'");
   expectUsageError("solve x.png --fov-rnge 5 10",
                    "unknown option '--fov-rnge' (did you mean '--fov-range'?)");
   expectUsageError("solve x.png --algorithm pyramd",
