@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "app/earlier_run.hpp"
 #include "common/output_file.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
@@ -17,38 +18,6 @@ namespace st::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// An earlier run at the same path is replaced only on request, and then whole: frames of a
-/// longer earlier run would otherwise survive beside the new rawlog's, looking like its own.
-void replaceEarlierRun(const std::string& rawlog, bool force) {
-  const fs::path images = externalImagesDir(rawlog);
-  std::error_code ec;
-  const bool rawlog_exists = fs::exists(rawlog, ec);
-  const bool images_link = fs::is_symlink(images, ec);
-  const bool images_used =
-      images_link || (fs::is_directory(images, ec) && !fs::is_empty(images, ec));
-  if (!rawlog_exists && !images_used) return;
-  if (!force) {
-    throw InputError("-o/--output " + rawlog + ": " +
-                     (rawlog_exists ? std::string("the rawlog exists")
-                                    : images.string() + " holds images of an earlier run") +
-                     "; --force (-f) replaces it and empties " + images.string());
-  }
-  ec.clear();
-  if (images_link) {
-    // Only the link: its target is another rawlog's folder (replay -o links the input's).
-    fs::remove(images, ec);
-  } else if (fs::is_directory(images, ec)) {
-    std::vector<fs::path> entries;
-    for (const auto& entry : fs::directory_iterator(images, ec)) entries.push_back(entry.path());
-    for (const fs::path& p : entries) {
-      if (ec) break;
-      fs::remove_all(p, ec);
-    }
-  }
-  if (ec) throw InputError(images.string() + ": cannot empty the earlier run's images (" +
-                           ec.message() + ")");
-}
 
 }  // namespace
 
