@@ -63,7 +63,6 @@
 #include "app/live/live_recorder.hpp"
 #include "app/live/replay_config.hpp"
 #include "app/live/sensor_runner.hpp"
-#include "app/earlier_run.hpp"
 #include "common/output_file.hpp"
 #include "common/errors.hpp"
 #include "common/log.hpp"
@@ -87,7 +86,6 @@ struct LiveArgs {
   std::string config, out, csv;  // out and csv: absolute once checked
   double duration_s = 0;
   bool gui = false;
-  bool force = false;  ///< replace an earlier run at the output path
 };
 
 /// One live run: the sensors in their threads, the recorder, the navigator, the window.
@@ -322,7 +320,6 @@ int runLive(const LiveArgs& args) {
   const std::string out =
       args.out.empty() ? readLiveIni(IniReader{cfg, args.config}).global.rawlog_file : args.out;
   const fs::path out_path = fs::absolute(out).lexically_normal();
-  replaceEarlierRun(out_path.string(), args.force);  // never over a recording in silence
   prepareOutputFile(out_path.string(), args.out.empty() ? args.config + ": [global] rawlog_file"
                                                         : std::string("-o"));
   prepareOutputFile(replayConfigPath(out_path).string(), "-o");
@@ -372,9 +369,6 @@ void addLiveCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("--csv", args->csv, "Trajectory CSV of the filter, one row per frame (as "
                                       "replay's)");
   cmd->add_flag("--gui", args->gui, "Show the frame, blobs, identified stars and attitude");
-  cmd->add_flag("-f,--force", args->force,
-                "Replace an earlier run at the output path (its rawlog, and the images beside "
-                "it); without it an existing recording is an error");
   cmd->callback([args, &run] { run = [args] { return runLive(*args); }; });
 }
 

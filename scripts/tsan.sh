@@ -47,7 +47,7 @@ fail=0
 echo "tsan: startracker live for $seconds s (simulated sensors)"
 rc=0
 (cd "$out" && timeout --preserve-status -s INT "$seconds" "$build/app/startracker" live \
-  "$repo/rawlogs/live_sim.ini" -o "$out/tsan.rawlog" -f >"$out/live.log" 2>&1) || rc=$?
+  "$repo/rawlogs/live_sim.ini" -o "$out/tsan.rawlog" >"$out/live.log" 2>&1) || rc=$?
 grep -E '^(live: stopped|rawlog: |observations: |star tracker: )' "$out/live.log" || true
 reports=$(grep -c '^WARNING: ThreadSanitizer' "$out/live.log" || true)
 echo "tsan: live exit $rc, $reports ThreadSanitizer report(s)"

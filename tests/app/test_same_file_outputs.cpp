@@ -71,21 +71,5 @@ TEST(SameFileOutputs, CalibrateDarkAndCatalogOverAnInputAreRefused) {
                 dir + "/hip.dat.gz");
 }
 
-// `live` over an existing recording: refused like `simulate` (it overwrote it in silence and
-// its images folder mixed the frames of both runs); -f replaces the earlier run.
-TEST(SameFileOutputs, LiveOverAnEarlierRecordingNeedsForce) {
-  const std::string dir = test::makeTempDir("same_file_live");
-  std::ofstream(dir + "/a.rawlog") << "an earlier recording";
-  const std::string ini = test::repoDir() + "/rawlogs/live_sim.ini";
-  const test::CliRun r = test::runCli("live '" + ini + "' -o a.rawlog --duration 1", dir);
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("the rawlog exists"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
-  EXPECT_EQ(bytesOf(dir + "/a.rawlog"), "an earlier recording");
-  const test::CliRun forced = test::runCli("live '" + ini + "' -o a.rawlog --duration 1 -f", dir);
-  EXPECT_EQ(forced.code, 0) << forced.err;
-  EXPECT_NE(bytesOf(dir + "/a.rawlog"), "an earlier recording");
-}
-
 }  // namespace
 }  // namespace st
