@@ -81,6 +81,7 @@ FrameInput frameInputFromImage(const cv::Mat& image, const SolveOptions& o, cons
   in.psf_width_x = det.psf_width_x;
   in.psf_width_y = det.psf_width_y;
   in.hits = det.hits;
+  in.pixel_aspect = pixel_aspect;
   in.rejected = std::move(det.rejected_blobs);
   in.image = image;  // a header: the caller's pixels, or the loaded image's
   return in;

@@ -25,6 +25,7 @@ struct FrameInput {
   /// width along x and y it measured, the radiation hits it flagged, the blobs it dropped.
   double psf_width_x = 0, psf_width_y = 0;
   int hits = 0;
+  double pixel_aspect = 1;  ///< the camera's fx / fy detection judged the blobs with
   std::vector<DetectionResult::Rejected> rejected;
   std::optional<double> epoch_jyear;
   std::string epoch_source;

@@ -352,12 +352,8 @@ void writeSolveAnnotation(const SolveReport& r, const std::string& path) {
   caption.push_back(line);
   const cv::Mat canvas =
       r.in.image.empty() ? cv::Mat::zeros(r.in.height, r.in.width, CV_8UC1) : r.in.image;
-  const double aspect = solved ? r.ps.search.camera.pixelAspect()
-                               : (r.o.camera.camera_file.empty()
-                                      ? r.o.camera.pixelAspect(r.o.option_prefix)
-                                      : CameraModel::loadFile(r.o.camera.camera_file,
-                                                              r.o.camera.camera_section)
-                                            .pixelAspect());
+  // The fitted camera's, else the one detection used (the camera file is not read again).
+  const double aspect = solved ? r.ps.search.camera.pixelAspect() : r.in.pixel_aspect;
   writeAnnotatedFrame(path, canvas, blobs, identified, caption, aspect);
 }
 

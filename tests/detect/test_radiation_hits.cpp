@@ -61,9 +61,15 @@ Tally tally(const test::InflightSimulator& sim, int frames, double mean_hits, bo
   return t;
 }
 
+/// The simulator of these tests (one database, one renderer for the whole file).
+const test::InflightSimulator& simulator() {
+  static const auto db = test::inflightDatabase();
+  static const test::InflightSimulator sim(*db);
+  return sim;
+}
+
 TEST(RadiationHits, BrightHitsAreFlaggedStarsAreNotAndHitsRankLast) {
-  const auto db = test::inflightDatabase();
-  const test::InflightSimulator sim(*db);
+  const test::InflightSimulator& sim = simulator();
   const Tally t = tally(sim, 40, 60, true);
   std::printf("stars %d (flagged %d), bright hits %d (flagged %d), of them dots %d (flagged %d)\n",
               t.stars, t.stars_flagged, t.bright_hits, t.bright_hits_flagged, t.bright_dots,
@@ -84,9 +90,7 @@ TEST(RadiationHits, BrightHitsAreFlaggedStarsAreNotAndHitsRankLast) {
 }
 
 TEST(RadiationHits, FrameWithoutHitsHasItsPsfMeasuredPerAxis) {
-  const auto db = test::inflightDatabase();
-  const test::InflightSimulator sim(*db);
-  const test::InflightFrame f = sim.frame(7, 0);
+  const test::InflightFrame f = simulator().frame(7, 0);
   const DetectionResult r = detectStars(f.image);
   // Rows binned 2x: the three-pixel width along y is about half the one along x (PSF sigma
   // 1 px native: pixel-integrated ~1.0 px along x, ~0.55 along y).
@@ -98,8 +102,7 @@ TEST(RadiationHits, FrameWithoutHitsHasItsPsfMeasuredPerAxis) {
 }
 
 TEST(RadiationHits, TrackingWindowRefusesAHitInPlaceOfItsStar) {
-  const auto db = test::inflightDatabase();
-  const test::InflightSimulator sim(*db);
+  const test::InflightSimulator& sim = simulator();
   const test::InflightFrame f = sim.frame(11, 0);
   // The full frame first: the detector learns the frame's PSF.
   StarDetector det(DetectorOptions{});
