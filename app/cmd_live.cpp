@@ -57,6 +57,7 @@
 #include <map>
 
 #include "app/command.hpp"
+#include "app/earlier_run.hpp"
 #include "app/live/integrity_summary.hpp"
 #include "app/live/live_display.hpp"
 #include "app/live/live_navigator.hpp"
@@ -64,6 +65,7 @@
 #include "app/live/replay_config.hpp"
 #include "app/live/sensor_runner.hpp"
 #include "common/output_file.hpp"
+#include "common/stop_signal.hpp"
 #include "common/errors.hpp"
 #include "common/log.hpp"
 #include "config/ini_reader.hpp"
@@ -79,13 +81,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-volatile std::sig_atomic_t g_signal = 0;
-extern "C" void onStopSignal(int sig) { g_signal = sig; }
 
 struct LiveArgs {
   std::string config, out, csv;  // out and csv: absolute once checked
   double duration_s = 0;
-  bool gui = false;
+  bool gui = false, force = false;
 };
 
 /// One live run: the sensors in their threads, the recorder, the navigator, the window.
@@ -93,14 +93,23 @@ class LiveSession {
  public:
   LiveSession(const LiveArgs& args, const mrpt::config::CConfigFileBase& cfg,
               const fs::path& out_path)
-      : args_(args), out_path_(out_path), writer_(out_path.string()), recorder_(writer_, nullptr) {
+      : args_(args), out_path_(out_path) {
     bool nav_enabled = true;
     nav_opts_ = liveNavigatorOptions(cfg, args.config, &nav_enabled);
     nav_enabled_ = nav_enabled;
     live_keys_ = readLiveIni(IniReader{cfg, args.config});
     std::vector<SensorSpec> specs = createSensors(cfg, args.config);  // InputError -> exit 2
+    // The recording is opened (and an earlier one replaced) only once the configuration
+    // is known good: a run refused on its .ini leaves nothing behind.
+    replaceEarlierRun(out_path.string(), args.force);
+    writer_ = std::make_unique<RawlogWriter>(out_path.string());
+    recorder_ = std::make_unique<LiveRecorder>(*writer_, nullptr);
+    recorder_->writeMarker(*recordingMarker(kRecordingStartLabel,
+                                            "startracker live recording from " + args.config +
+                                                "; it ends with a " + kRecordingEndLabel +
+                                                " comment unless it was cut"));  // no time
     for (auto& spec : specs) {
-      spec.sensor->setPathForExternalImages(writer_.imagesDir());
+      spec.sensor->setPathForExternalImages(writer_->imagesDir());
       if (auto* t = dynamic_cast<CStarTrackerSensor*>(spec.sensor.get())) trackers_.push_back(t);
       runners_.push_back(std::make_unique<SensorRunner>(std::move(spec), queue_));
     }
@@ -126,7 +135,7 @@ class LiveSession {
       NavigatorOptions o = nav_opts_;
       o.star_tracker_label = t->getSensorLabel();
       nav_ = std::make_unique<LiveNavigator>(*t->database(), t->camera(), o, args_.csv);
-      recorder_.setNavigator(nav_.get());
+      recorder_->setNavigator(nav_.get());
       LiveNavigator* nav = nav_.get();
       // Every head's tracker asks the one loop for its frame's inputs.
       for (std::size_t h = 0; h < trackers_.size(); ++h) {
@@ -158,10 +167,10 @@ class LiveSession {
     const auto t_start = clock::now();
     auto last_gui = t_start;
     for (;;) {
-      if (g_signal) return g_signal == SIGINT ? "SIGINT" : "SIGTERM";
+      if (stopSignal()) return stopSignalName();
       elapsed_s_ = std::chrono::duration<double>(clock::now() - t_start).count();
       if (args_.duration_s > 0 && elapsed_s_ >= args_.duration_s) return "--duration";
-      recorder_.record(queue_.takeAll(0.05));
+      recorder_->record(queue_.takeAll(0.05));
       printReports();
       if (display_.isOpen() && clock::now() - last_gui > std::chrono::milliseconds(100)) {
         last_gui = clock::now();
@@ -183,20 +192,22 @@ class LiveSession {
   void stop() {
     stopRunners(true);
     stopRunners(false);
-    recorder_.record(queue_.takeAll(0.0));
-    recorder_.finish();
+    recorder_->record(queue_.takeAll(0.0));
+    recorder_->finish();
     printReports();
     if (nav_) {
       nav_->flush();
       for (CStarTrackerSensor* head : trackers_) head->setInputsProvider({});
     }
-    writer_.close();
+    recorder_->writeMarker(*recordingMarker(kRecordingEndLabel, "startracker live: end of recording",
+                                            recorder_->lastWritten()));
+    writer_->close();
     display_.close();
   }
 
   void printSummary(const std::string& why_stop) const {
     std::printf("live: stopped by %s after %.1f s\n", why_stop.c_str(), elapsed_s_);
-    recorder_.printRawlogSummary(out_path_.string(), stdout);
+    recorder_->printRawlogSummary(out_path_.string(), stdout);
     std::size_t delivered = 0;
     for (auto& r : runners_) {
       const char* st = r->state() == SensorRunner::State::kFailed     ? "FAILED"
@@ -208,8 +219,8 @@ class LiveSession {
     }
     // Every observation a sensor delivered must be in the rawlog (scripts/soak.sh checks).
     std::printf("observations: %zu delivered, %zu recorded, %zd lost\n", delivered,
-                recorder_.written(), static_cast<std::ptrdiff_t>(delivered - recorder_.written()));
-    recorder_.printTrackerSummary(stdout);
+                recorder_->written(), static_cast<std::ptrdiff_t>(delivered - recorder_->written()));
+    recorder_->printTrackerSummary(stdout);
     for (const CStarTrackerSensor* t : trackers_)
       if (const std::string c = t->cameraReport(); !c.empty()) std::printf("%s\n", c.c_str());
     if (!nav_) return;
@@ -272,7 +283,7 @@ class LiveSession {
     const auto exited = [&] {
       return std::all_of(group.begin(), group.end(), [](auto* r) { return r->exited(); });
     };
-    while (!exited()) recorder_.record(queue_.takeAll(0.01));
+    while (!exited()) recorder_->record(queue_.takeAll(0.01));
     for (auto* r : group) r->stop();
   }
   void printReports() {
@@ -294,12 +305,12 @@ class LiveSession {
   LiveIniKeys live_keys_;
   fs::path replay_config_;
   bool nav_enabled_ = true;
-  RawlogWriter writer_;
+  std::unique_ptr<RawlogWriter> writer_;
   ObservationQueue queue_;
   std::vector<std::unique_ptr<SensorRunner>> runners_;
   std::vector<CStarTrackerSensor*> trackers_;
   std::unique_ptr<LiveNavigator> nav_;
-  LiveRecorder recorder_;
+  std::unique_ptr<LiveRecorder> recorder_;
   LiveDisplay display_;
   double elapsed_s_ = 0;
 };
@@ -320,6 +331,7 @@ int runLive(const LiveArgs& args) {
   const std::string out =
       args.out.empty() ? readLiveIni(IniReader{cfg, args.config}).global.rawlog_file : args.out;
   const fs::path out_path = fs::absolute(out).lexically_normal();
+  if (!args.force) replaceEarlierRun(out_path.string(), false);  // refused before any work
   prepareOutputFile(out_path.string(), args.out.empty() ? args.config + ": [global] rawlog_file"
                                                         : std::string("-o"));
   prepareOutputFile(replayConfigPath(out_path).string(), "-o");
@@ -334,12 +346,7 @@ int runLive(const LiveArgs& args) {
   fs::current_path(config.parent_path());  // the .ini's relative paths
 
   LiveSession session(checked, cfg, out_path);
-  g_signal = 0;
-  struct sigaction sa {};
-  sa.sa_handler = onStopSignal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  installStopSignals();  // Ctrl-C is live's normal end: exit 0 after the summary
   const int running = session.start();
   const std::string why_stop = running > 0 ? session.runUntilStopped() : "no sensor started";
   session.stop();
@@ -368,6 +375,8 @@ void addLiveCommand(CLI::App& root, CommandRun& run) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--csv", args->csv, "Trajectory CSV of the filter, one row per frame (as "
                                       "replay's)");
+  cmd->add_flag("-f,--force", args->force,
+                "Replace an existing recording at the output (and empty its images folder)");
   cmd->add_flag("--gui", args->gui, "Show the frame, blobs, identified stars and attitude");
   cmd->callback([args, &run] { run = [args] { return runLive(*args); }; });
 }

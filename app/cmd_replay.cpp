@@ -21,6 +21,7 @@
 #include "common/log.hpp"
 #include "common/mrpt_convert.hpp"
 #include "common/progress.hpp"
+#include "common/stop_signal.hpp"
 #include "fusion/consistency.hpp"
 #include "navigation/nav_step.hpp"
 #include "navigation/navigator.hpp"
@@ -208,12 +209,16 @@ int runReplay(const ReplayOpts& o) {
   RawlogDamage damage;
   std::optional<CameraModel> camera = cfg.camera;
   std::optional<mrpt::Clock::time_point> t_first;
-  bool has_gyro = false;
+  bool has_gyro = false, recording_start = false, recording_end = false;
   ExternalImages images;
   const std::size_t n_obs = visitRawlogUpToDamage(
       o.rawlog,
       [&](const mrpt::obs::CObservation::Ptr& ob) {
-        if (!t_first) t_first = ob->timestamp;
+        const bool marker = isRecordingMarker(*ob, kRecordingStartLabel) ||
+                            isRecordingMarker(*ob, kRecordingEndLabel);
+        if (!t_first && !marker) t_first = ob->timestamp;
+        recording_start = recording_start || isRecordingMarker(*ob, kRecordingStartLabel);
+        recording_end = recording_end || isRecordingMarker(*ob, kRecordingEndLabel);
         has_gyro = has_gyro || isGyroObservation(*ob, cfg.nav);
         images.add(*ob, cfg.nav.camera_label);
         if (camera || ob->sensorLabel != cfg.nav.camera_label) return;
@@ -226,6 +231,10 @@ int runReplay(const ReplayOpts& o) {
     log::warn("%s; replaying those (--strict makes this an error)", damage.message.c_str());
   }
   if (n_obs == 0) throw InputError(o.rawlog + ": no observations");
+  if (recording_start && !recording_end && !damage.damaged)
+    log::warn("%s: the recording was cut: it has no %s marker (the live run that wrote it was "
+              "killed or lost power); replaying its %zu observations",
+              o.rawlog.c_str(), kRecordingEndLabel, n_obs);
   if (!camera) {
     throw InputError(o.rawlog + ": no " + cfg.nav.camera_label +
                      " (CObservationImage) observation: nothing to replay");
@@ -254,12 +263,15 @@ int runReplay(const ReplayOpts& o) {
   const double db_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_db).count();
 
+  // The output rawlog is written under a temporary name and renamed when complete.
+  std::unique_ptr<PendingOutput> out_file;
   std::unique_ptr<RawlogWriter> writer;
   if (!o.output.empty()) {
-    writer = std::make_unique<RawlogWriter>(o.output);
+    out_file = std::make_unique<PendingOutput>(o.output);
+    writer = std::make_unique<RawlogWriter>(out_file->tempPath());
     linkImages(o.rawlog, o.output);
   }
-  std::size_t star_tracker_written = 0;
+  std::size_t star_tracker_written = 0, star_tracker_replaced = 0;
   Navigator nav(db, *camera, cfg.nav);
   // Steps are reported as they finish and kept only for plots (live's StepReport).
   StepReport report(o.csv, !o.plots.empty());
@@ -275,27 +287,41 @@ int runReplay(const ReplayOpts& o) {
 
   ProgressBar bar("replay", n_obs, true);  // silent under -q (common/progress)
   const auto wall0 = std::chrono::steady_clock::now();
+  // Ctrl-C / SIGTERM stop between observations: what was replayed is flushed and summed up.
+  installStopSignals();
+  std::size_t n_done = 0;
   // The scan's observations again: exactly those (the damage, if any, comes after them).
   RawlogReader reader(o.rawlog);
-  for (std::size_t i = 0; i < n_obs; ++i) {
+  for (std::size_t i = 0; i < n_obs && !stopSignal(); ++i, n_done = i) {
     const mrpt::obs::CObservation::Ptr ob = reader.next();
     if (!ob) throw InputError(o.rawlog + ": changed while replayed (object " + std::to_string(i) +
                               " is gone)");
-    if (o.realtime) {
+    // (A recording's start/end markers are stamped by the wall clock, not the sensors'.)
+    if (o.realtime && !isRecordingMarker(*ob, kRecordingStartLabel) &&
+        !isRecordingMarker(*ob, kRecordingEndLabel)) {
       const double dt = mrpt::system::timeDifference(*t_first, ob->timestamp);
       std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                 std::chrono::duration<double>(std::max(0.0, dt))));
     }
-    if (writer) writer->write(*ob);
+    // A recording's own fixes (a live run's STAR_TRACKER) are replaced by this run's, not
+    // written beside them under one label and time.
+    const bool replaced = writer && nav.isFixLabel(ob->sensorLabel) &&
+                          dynamic_cast<const CObservationStarTracker*>(ob.get());
+    star_tracker_replaced += replaced;
+    if (writer && !replaced) writer->write(*ob);
     nav.push(ob);
     bar.update(i + 1);
   }
+  const bool interrupted = n_done < n_obs;
   nav.flush();
   report.flush();
   bar.finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  if (writer) writer->close();
+  if (writer) {
+    writer->close();
+    out_file->commit();
+  }
 
   for (const auto& w : nav.warnings()) log::warn("%s", w.c_str());
   if (nav.warningCount() > int(nav.warnings().size()))
@@ -304,6 +330,10 @@ int runReplay(const ReplayOpts& o) {
   // ---- summary ----
   const std::string upto =
       damage.damaged ? " (up to the damage at object " + std::to_string(damage.object) + ")" : "";
+  if (interrupted)
+    std::printf("replay: interrupted by %s after %zu of %zu observations: the summary and "
+                "the outputs are of those\n",
+                stopSignalName(), n_done, n_obs);
   std::printf("%s: %zu observations%s, camera %s\n", o.rawlog.c_str(), n_obs, upto.c_str(),
               camera->describe().c_str());
   std::printf("database: %zu stars (%s, %.1f s)\n", db.stars().size(),
@@ -323,13 +353,18 @@ int runReplay(const ReplayOpts& o) {
     std::printf("csv: %s (%d rows)\n", o.csv.c_str(), rows);
   }
   if (writer) {
-    std::printf("rawlog: %s (%zu observations, %zu STAR_TRACKER)\n", o.output.c_str(),
-                writer->count(), star_tracker_written);
+    std::printf("rawlog: %s (%zu observations, %zu STAR_TRACKER%s)\n", o.output.c_str(),
+                writer->count(), star_tracker_written,
+                star_tracker_replaced
+                    ? (", in place of the recording's " + std::to_string(star_tracker_replaced))
+                          .c_str()
+                    : "");
   }
   if (!o.plots.empty()) {
     const std::string drawn = plots(report.steps(), o.plots);
     std::printf("plots: %s/{%s}.png\n", o.plots.c_str(), drawn.c_str());
   }
+  if (interrupted) return kExitInterrupted;
   return c.solved > 0 ? kExitOk : kExitFailure;
 }
 

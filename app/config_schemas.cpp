@@ -86,7 +86,7 @@ void addConfigSchemas(SchemaPrinters& printers) {
   printers.add(
       "tracker",
       [](const IniReader& r, const std::string& wanted) {
-        return isTrackerIni(r) && !isLiveIni(r) ? presentOf(r, wanted, {"filter", "navigator", "pipeline", "database", "camera"})
+        return isTrackerIni(r) && !isLiveIni(r) ? presentOf(r, wanted, {trackerIniSections().begin(), trackerIniSections().end()})
                                : std::vector<std::string>{};
       },
       [](const IniReader& r, const std::vector<std::string>&) { return printTrackerIni(readTrackerIni(r)); });

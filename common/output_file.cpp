@@ -59,4 +59,23 @@ void prepareOutputDir(const std::string& dir, const std::string& flag) {
   proveWritable(fs::path(dir) / ".startracker-write-test", flag, dir);
 }
 
+PendingOutput::PendingOutput(std::string path) : path_(std::move(path)) {
+  const fs::path p(path_);
+  temp_ = (p.parent_path() / ("." + p.filename().string() + ".partial")).string();
+}
+
+PendingOutput::~PendingOutput() {
+  if (committed_) return;
+  std::error_code ec;
+  fs::remove(temp_, ec);
+}
+
+void PendingOutput::commit() {
+  if (committed_) return;
+  std::error_code ec;
+  fs::rename(temp_, path_, ec);
+  if (ec) throw InputError(path_ + ": cannot be written (renaming " + temp_ + ": " + ec.message() + ")");
+  committed_ = true;
+}
+
 }  // namespace st

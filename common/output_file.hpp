@@ -31,4 +31,25 @@ void refuseSameFile(const std::string& path, const std::string& flag,
 /// InputError naming `flag` and `dir`.
 void prepareOutputDir(const std::string& dir, const std::string& flag);
 
+/// An output written under a temporary name beside it and renamed to its real name only when
+/// complete (commit()), so an interrupted or failed run never leaves a half file under the
+/// real name (nor destroys the file an earlier run left there). The temporary is removed
+/// when the object dies uncommitted.
+class PendingOutput {
+ public:
+  explicit PendingOutput(std::string path);
+  ~PendingOutput();
+  PendingOutput(const PendingOutput&) = delete;
+  PendingOutput& operator=(const PendingOutput&) = delete;
+  /// Where to write: `<folder>/.<name>.partial`.
+  const std::string& tempPath() const { return temp_; }
+  const std::string& path() const { return path_; }
+  /// Renames the temporary over the real path. Throws InputError naming it on failure.
+  void commit();
+
+ private:
+  std::string path_, temp_;
+  bool committed_ = false;
+};
+
 }  // namespace st

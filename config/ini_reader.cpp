@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "common/errors.hpp"
@@ -107,6 +109,49 @@ void IniReader::onlyKeys(const std::string& sec, const std::set<std::string>& al
   }
 }
 
+void IniReader::onlySections(const std::set<std::string>& allowed, const std::string& kind) const {
+  std::vector<std::string> sections;
+  cfg.getAllSections(sections);
+  const std::vector<std::string> known(allowed.begin(), allowed.end());
+  for (const auto& s : sections) {
+    if (s.empty() || allowed.count(s)) continue;  // "": keys before any section header
+    const std::string near = closestKey(s, known);
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "[" : ", [") + a + "]";
+    throw InputError(where(s) + ": unknown section" +
+                     (near.empty() ? "" : "; did you mean [" + near + "]?") + " (" + kind +
+                     " has " + list + ")");
+  }
+}
+
+void refuseDuplicateKeys(const std::string& text, const std::string& source) {
+  std::set<std::pair<std::string, std::string>> seen;
+  std::string section;
+  std::size_t line_no = 0, pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t end = std::min(text.find('\n', pos), text.size());
+    std::string line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    line = line.substr(first, line.find_last_not_of(" \t\r") + 1 - first);
+    // Comments and MRPT's preprocessor lines (@define, @include) are not keys.
+    if (line[0] == ';' || line[0] == '#' || line[0] == '@' || line.rfind("//", 0) == 0) continue;
+    if (line[0] == '[') {
+      section = line.substr(1, line.find(']') - 1);
+      continue;
+    }
+    const auto eq = line.find('=');
+    if (eq == std::string::npos) continue;
+    std::string key = line.substr(0, eq);
+    key.erase(key.find_last_not_of(" \t") + 1);
+    if (!seen.insert({section, key}).second)
+      throw InputError(source + ":" + std::to_string(line_no) + ": [" + section + "] key '" +
+                       key + "' is written twice (which one was meant? MRPT would keep the last)");
+  }
+}
+
 int editDistance(const std::string& a, const std::string& b) {
   // One row of the Wagner-Fischer table: keys are short, and this runs only on an error.
   std::vector<int> row(b.size() + 1);
@@ -139,6 +184,11 @@ std::string closestKey(const std::string& key, const std::vector<std::string>& c
 }
 
 std::unique_ptr<mrpt::config::CConfigFile> openIniFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  refuseDuplicateKeys(text.str(), path);
   try {
     return std::make_unique<mrpt::config::CConfigFile>(path);
   } catch (const std::exception& e) {

@@ -40,7 +40,15 @@ struct IniReader {
   /// Throws InputError naming the first key of `sec` that is not in `allowed`, with the
   /// nearest allowed key as a suggestion when one is close (closestKey).
   void onlyKeys(const std::string& sec, const std::set<std::string>& allowed) const;
+  /// Throws InputError naming the first section of the file that is not in `allowed`
+  /// (a misspelt section must not turn into defaults), with the nearest allowed one as a
+  /// suggestion; `kind` says what the file is ("a tracker file") for the list of sections.
+  void onlySections(const std::set<std::string>& allowed, const std::string& kind) const;
 };
+
+/// Throws InputError naming `source`, the section and the key when a key is written twice in
+/// one section of the .ini text (MRPT keeps the last one in silence).
+void refuseDuplicateKeys(const std::string& text, const std::string& source);
 
 /// Levenshtein distance (insertions, deletions, substitutions) between two keys.
 int editDistance(const std::string& a, const std::string& b);
@@ -48,7 +56,7 @@ int editDistance(const std::string& a, const std::string& b);
 /// it (distance <= 2, or <= a third of the key's length); "" otherwise.
 std::string closestKey(const std::string& key, const std::vector<std::string>& candidates);
 
-/// MRPT's reader of the .ini file `path`. Its preprocessor ($env{}, $eval{}, @define) throws
+/// MRPT's reader of the .ini file `path` (a key written twice in a section is refused). Its preprocessor ($env{}, $eval{}, @define) throws
 /// MRPT's own exception on bad syntax (found by fuzzing): here an InputError naming the file.
 std::unique_ptr<mrpt::config::CConfigFile> openIniFile(const std::string& path);
 

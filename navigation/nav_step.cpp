@@ -149,7 +149,8 @@ std::string navStepCsvRow(const NavStep& s) {
   return o.str();
 }
 
-NavStepCsvWriter::NavStepCsvWriter(const std::string& path) : path_(path), f_(path) {
+NavStepCsvWriter::NavStepCsvWriter(const std::string& path)
+    : path_(path), out_(path), f_(out_.tempPath()) {
   if (!f_) throw InputError(path + ": cannot write the CSV");
   f_ << navStepCsvHeader() << '\n';
 }
@@ -161,8 +162,10 @@ void NavStepCsvWriter::write(const NavStep& s) {
 }
 
 int NavStepCsvWriter::finish() {
-  f_.flush();
+  if (!f_.is_open()) return rows_;  // finished already
+  f_.close();
   if (!f_) throw InputError(path_ + ": write failed");
+  out_.commit();
   return rows_;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/attitude.hpp"
+#include "common/output_file.hpp"
 #include "fusion/fusion_loop.hpp"
 #include "sensors/tracking/frame.hpp"
 
@@ -135,11 +136,13 @@ class NavStepCsvWriter {
  public:
   explicit NavStepCsvWriter(const std::string& path);
   void write(const NavStep& s);
-  /// Flushes and checks the stream; returns the rows written.
+  /// Flushes, checks and closes the stream and gives the file its real name; returns the
+  /// rows written. Without it (an error, an interruption) the CSV is not left half-written.
   int finish();
 
  private:
   std::string path_;
+  PendingOutput out_;  ///< under its real name only once finish() succeeds
   std::ofstream f_;
   int rows_ = 0;
 };

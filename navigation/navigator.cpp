@@ -131,6 +131,11 @@ std::vector<std::string> Navigator::warnings() const {
   return all;
 }
 
+bool Navigator::isFixLabel(const std::string& label) const {
+  return std::any_of(heads_.begin(), heads_.end(),
+                     [&](const auto& h) { return h.fix_label == label; });
+}
+
 int Navigator::warningCount() const {
   return loop_.warningCount() + static_cast<int>(own_warnings_.size());
 }

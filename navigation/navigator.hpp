@@ -119,6 +119,9 @@ class Navigator {
   /// The navigator's own warnings (unloadable frames), then the loop's.
   std::vector<std::string> warnings() const;
   int warningCount() const;
+  /// Whether this run's fixes carry `label` (one of the heads' fix labels): an output rawlog
+  /// writes them in place of the input's observations of that label.
+  bool isFixLabel(const std::string& label) const;
   int reinitializations() const { return loop_.reinitializations(); }
   int frozenFrames() const { return frozen_frames_; }
   /// Seconds from the first observation pushed to `t` (0 before any).

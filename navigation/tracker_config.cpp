@@ -10,6 +10,7 @@
 #include "catalog/star_catalog.hpp"
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
+#include "config/ini_kind.hpp"
 #include "config/ini_reader.hpp"
 #include "sensors/mrpt/pipeline_ini.hpp"
 #include "sensors/mrpt/camera_ini.hpp"
@@ -47,13 +48,11 @@ NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
   return o;
 }
 
-bool isTrackerIni(const IniReader& r) {
-  for (const char* sec : {"filter", "navigator", "pipeline", "database"})
-    if (r.cfg.sectionExists(sec)) return true;
-  return false;
-}
+bool isTrackerIni(const IniReader& r) { return iniKind(r) == "a tracker file"; }
 
 TrackerIniKeys readTrackerIni(const IniReader& r) {
+  requireIniKind(r, "a tracker file", "replay --config");
+  r.onlySections(trackerIniSections(), "a tracker file");
   TrackerIniKeys k;
   k.navigator = NavigatorIniKeys::of(k.nav);
   filterIniSchema().read(r, "filter", k.filter);

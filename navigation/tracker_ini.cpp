@@ -1,5 +1,7 @@
 #include "navigation/tracker_ini.hpp"
 
+#include "sensors/sim/scenario.hpp"
+
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -187,20 +189,15 @@ void applyFusionKeys(const IniReader& r, const FilterIniKeys& fk, const Navigato
   if (!f.isValid(&why)) throw InputError(r.where("navigator") + " key " + why);
 }
 
-bool isLiveIni(const IniReader& r) {
-  if (r.cfg.sectionExists("global")) return true;
-  std::vector<std::string> all;
-  r.cfg.getAllSections(all);
-  for (const auto& s : all)
-    if (r.exists(s, "driver")) return true;
-  return false;
-}
-
 LiveIniKeys readLiveIni(const IniReader& r) {
   LiveIniKeys k;
   NavigatorOptions defaults;
   defaults.fusion.reorder_window_s = 0.5;  // live: a fix arrives after its processing time
   k.navigator = NavigatorIniKeys::of(defaults);
+  std::set<std::string> sections = liveIniSections(r);
+  if (r.cfg.sectionExists("scenario"))  // simulated sensors read their scenario from this file
+    for (const auto& s : scenarioSectionNames(r)) sections.insert(s);
+  r.onlySections(sections, "a live .ini");
   liveGlobalIniSchema().read(r, "global", k.global);
   filterIniSchema().read(r, "filter", k.filter);
   navigatorIniSchema(true).read(r, "navigator", k.navigator);

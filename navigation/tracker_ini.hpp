@@ -14,6 +14,7 @@
 #pragma once
 #include <string>
 
+#include "config/ini_kind.hpp"
 #include "config/schema.hpp"
 #include "navigation/navigator.hpp"
 
@@ -88,7 +89,5 @@ struct LiveIniKeys {
 };
 LiveIniKeys readLiveIni(const IniReader& r);
 std::string printLiveIni(const LiveIniKeys& k);
-/// Whether the file is a live app's .ini: a [global] or a sensor section (a `driver`).
-bool isLiveIni(const IniReader& r);
 
 }  // namespace st

@@ -73,8 +73,13 @@ void LiveRecorder::write(const mrpt::obs::CObservation::Ptr& o) {
   }
 }
 
+void LiveRecorder::writeMarker(const mrpt::obs::CObservation& marker) {
+  writer_.write(marker);
+  ++markers_;
+}
+
 void LiveRecorder::printRawlogSummary(const std::string& path, std::FILE* out) const {
-  std::fprintf(out, "rawlog: %s, %zu observations\n", path.c_str(), written_);
+  std::fprintf(out, "rawlog: %s, %zu observations\n", path.c_str(), written_ + markers_);
   if (out_of_order_ > 0) {
     log::warn(
         "%d observations arrived more than %.1f s late and are out of "
@@ -82,6 +87,9 @@ void LiveRecorder::printRawlogSummary(const std::string& path, std::FILE* out) c
         out_of_order_, hold_s_);
   }
   for (const auto& [label, n] : per_label_) std::fprintf(out, "  %-16s %zu\n", label.c_str(), n);
+  if (markers_ > 0)
+    std::fprintf(out, "  (%zu recording markers: comments %s, %s)\n", markers_, kRecordingStartLabel,
+                 kRecordingEndLabel);
   if (flushes_ > 0) {
     std::fprintf(out, "rawlog flushes: %d every %.2f s, %.2f ms mean, %.2f ms max\n", flushes_,
                  flush_s_, 1e3 * flush_time_s_ / flushes_, 1e3 * flush_max_s_);

@@ -42,6 +42,11 @@ class LiveRecorder {
   void setNavigator(LiveNavigator* nav) { nav_ = nav; }
 
   std::size_t written() const { return written_; }
+  /// Writes a recording marker (rawlog_io.hpp) at once; counted in the rawlog's lines, not
+  /// among the sensors' observations.
+  void writeMarker(const mrpt::obs::CObservation& marker);
+  /// The newest timestamp written so far (INVALID_TIMESTAMP before the first).
+  mrpt::Clock::time_point lastWritten() const { return last_written_.value_or(mrpt::Clock::time_point{}); }
   /// "rawlog: ..., N observations" and one line per label (tests parse these lines).
   void printRawlogSummary(const std::string& path, std::FILE* out) const;
   /// Frames, solved, tracking, lost-in-space, and the failures counted by their cause.
@@ -64,7 +69,7 @@ class LiveRecorder {
   std::map<std::string, std::size_t> per_label_;
   std::map<FrameFailure, int> failures_;
   int frames_ = 0, solved_ = 0, tracking_ = 0, lis_ = 0, reacquired_ = 0, image_no_ = 0;
-  std::size_t written_ = 0;
+  std::size_t written_ = 0, markers_ = 0;
 };
 
 }  // namespace st::app

@@ -63,6 +63,7 @@ McRunFile readRunFile(const std::string& path) {
   if (s.find("\n[") == std::string::npos && s.rfind("[", 0) != 0)
     s = "[" + std::string(kRunSection) + "]\n" + s;
   // MRPT's ini preprocessor throws std::runtime_error (e.g. an unclosed `$env{`).
+  refuseDuplicateKeys(s, path);
   mrpt::config::CConfigFileMemory cfg;
   try {
     cfg.setContent(s);
@@ -73,6 +74,7 @@ McRunFile readRunFile(const std::string& path) {
   const IniReader r{cfg, path};
   if (!cfg.sectionExists(kRunSection))
     throw InputError(path + ": not a montecarlo run file (no [" + kRunSection + "] section)");
+  r.onlySections({kRunSection}, "a montecarlo run file");
   McRunFile run;
   runFileSchema().read(r, kRunSection, run);
   try {
@@ -91,6 +93,7 @@ std::map<std::string, std::string> runFileKeyValues(const McRunFile& run) {
 }
 
 std::string printRunFile(const IniReader& r, const std::string& section) {
+  r.onlySections({kRunSection}, "a montecarlo run file");
   McRunFile run;
   runFileSchema().read(r, section, run);
   return runFileSchema().print(section, run);

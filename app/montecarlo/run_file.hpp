@@ -10,11 +10,12 @@
 #include <string>
 
 #include "app/montecarlo/mc_options.hpp"
+#include "config/ini_kind.hpp"
 #include "config/schema.hpp"
 
 namespace st::app::mc {
 
-constexpr const char* kRunSection = "montecarlo_run";
+constexpr const char* kRunSection = kMontecarloRunSection;
 
 struct McRunFile {
   McOptions options;

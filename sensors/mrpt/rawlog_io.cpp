@@ -3,6 +3,7 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/rtti/CObject.h>
@@ -201,6 +202,20 @@ std::vector<mrpt::obs::CObservation::Ptr> readRawlogUpToDamage(const std::string
   visitRawlogUpToDamage(path, [&out](const mrpt::obs::CObservation::Ptr& o) { out.push_back(o); },
                         damage);
   return out;
+}
+
+mrpt::obs::CObservation::Ptr recordingMarker(const std::string& label, const std::string& text,
+                                             mrpt::Clock::time_point when) {
+  auto c = mrpt::obs::CObservationComment::Create();
+  c->sensorLabel = label;
+  c->timestamp = when;
+  c->text = label + ": " + text;
+  return c;
+}
+
+bool isRecordingMarker(const mrpt::obs::CObservation& obs, const std::string& label) {
+  const auto* c = dynamic_cast<const mrpt::obs::CObservationComment*>(&obs);
+  return c && c->text.compare(0, label.size() + 1, label + ":") == 0;
 }
 
 std::size_t visitRawlogUpToDamage(

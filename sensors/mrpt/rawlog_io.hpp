@@ -39,6 +39,20 @@ void registerStarTrackerClasses();
 /// `dir/stem_Images` for a rawlog `dir/stem.rawlog` (extension removed).
 std::string rawlogImagesDir(const std::string& rawlog_path);
 
+/// A live recording begins and ends with an MRPT comment observation (CObservationComment,
+/// shown by RawLogViewer and rawlog-edit) whose text begins with one of these words (MRPT
+/// does not store a comment's label): a recording that has the first but not the second was
+/// cut (the recorder was killed or lost power), which replay says.
+constexpr const char* kRecordingStartLabel = "RECORDING_START";
+constexpr const char* kRecordingEndLabel = "RECORDING_END";
+/// The marker `label` ("<label>: <text>"), stamped `when`: the start marker carries no time
+/// (INVALID_TIMESTAMP), the end marker the last observation's, so that neither is out of
+/// order among the sensors' timestamps nor paced by replay --realtime.
+mrpt::obs::CObservation::Ptr recordingMarker(const std::string& label, const std::string& text,
+                                             mrpt::Clock::time_point when = {});
+/// Whether `obs` is the marker `label`.
+bool isRecordingMarker(const mrpt::obs::CObservation& obs, const std::string& label);
+
 /// Writes observations to a gz rawlog, counting them.
 class RawlogWriter {
  public:

@@ -46,6 +46,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -119,6 +120,9 @@ struct ScenarioIni {
   std::vector<FaultParams> head_faults;
 };
 ScenarioIni readScenarioIni(const IniReader& r);
+/// The sections a scenario owns: [scenario] and the sections its keys name (their default
+/// names too, present or not: a misspelt [gyr] is then refused, not read as "no gyro").
+std::set<std::string> scenarioSectionNames(const IniReader& r);
 /// The effective scenario in ini form, every default filled in; reads back to `sc`.
 std::string printScenarioIni(const ScenarioIni& sc);
 

@@ -8,6 +8,7 @@
 #include "common/conventions.hpp"
 #include "common/errors.hpp"
 #include "common/utc_time.hpp"
+#include "config/ini_kind.hpp"
 #include "sensors/sim/scenario.hpp"
 #include "sensors/mrpt/camera_ini.hpp"
 
@@ -64,7 +65,12 @@ const SectionSchema<ScenarioGyroKeys>& gyroKeysSchema() {
 }
 
 void requireSection(const IniReader& r, const std::string& sec) {
-  if (!r.cfg.sectionExists(sec)) throw InputError(r.where(sec) + ": missing section");
+  if (r.cfg.sectionExists(sec)) return;
+  std::vector<std::string> present;
+  r.cfg.getAllSections(present);
+  const std::string near = closestKey(sec, present);
+  throw InputError(r.where(sec) + ": missing section" +
+                   (near.empty() ? "" : " (is [" + near + "] a misspelling of it?)"));
 }
 
 /// A section named by a [scenario] key: one the user wrote must exist (a typo must not turn
@@ -79,9 +85,33 @@ void checkNamedSection(const IniReader& r, const char* key, const std::string& s
 
 }  // namespace
 
+std::set<std::string> scenarioSectionNames(const IniReader& r) {
+  const std::string S = "scenario";
+  const ScenarioKeys d;
+  std::set<std::string> out = {S};
+  for (const auto& [key, def] :
+       {std::pair{"camera_section", d.camera_section}, {"sensor_section", d.sensor_section},
+        {"motion_section", d.motion_section}, {"gyro_section", d.gyro_section},
+        {"faults_section", d.faults_section}, {"orbit_section", d.orbit_section}})
+    out.insert(r.str(S, key, def));
+  ScenarioKeys k;
+  scenarioKeysSchema().read(r, S, k);
+  for (const std::string& head : k.head_sections) {
+    out.insert(head);
+    const std::string faults = r.str(head, "faults_section", "");
+    if (!faults.empty()) out.insert(faults);
+  }
+  return out;
+}
+
 ScenarioIni readScenarioIni(const IniReader& r) {
   ScenarioIni sc;
   const std::string S = "scenario";
+  if (!r.cfg.sectionExists(S)) {
+    const std::string kind = iniKind(r);
+    if (!kind.empty())
+      throw InputError(r.source + ": this is " + kind + "; a scenario file has a [scenario] section");
+  }
   requireSection(r, S);
   ScenarioKeys& k = sc.main;
   scenarioKeysSchema().read(r, S, k);
@@ -137,6 +167,11 @@ ScenarioIni readScenarioIni(const IniReader& r) {
                                  : FaultParams::fromConfig(r, h.faults_section));
     sc.heads.push_back(h);
   }
+  // Last: a section the file names but lacks is reported as such above, by its key.
+  std::set<std::string> sections = scenarioSectionNames(r);
+  if (isLiveIni(r))  // a live .ini that holds its simulated sensors' scenario
+    for (const auto& s : liveIniSections(r)) sections.insert(s);
+  r.onlySections(sections, "a scenario file");
   return sc;
 }
 

@@ -65,7 +65,14 @@ TEST(Live, SixtySecondsOnSimulatedSensorsAreConsistentAndKeepEveryObservation) {
   const auto all = readRawlog(rawlog);
   ASSERT_EQ(all.size(), s.total) << out;
   std::map<std::string, std::size_t> got;
-  for (const auto& o : all) ++got[o->sensorLabel];
+  std::size_t markers = 0;
+  for (const auto& o : all) {
+    const bool marker =
+        isRecordingMarker(*o, kRecordingStartLabel) || isRecordingMarker(*o, kRecordingEndLabel);
+    markers += marker;
+    if (!marker) ++got[o->sensorLabel];
+  }
+  EXPECT_EQ(markers, 2u) << "a whole recording has its start and end markers";
   EXPECT_EQ(got, s.per_label) << out;
   // In timestamp order, as replay reads it (frames are stamped at mid-exposure and their
   // fixes come after processing, while the gyro keeps sampling).

@@ -84,8 +84,12 @@ TEST(ScenarioErrors, NamedSectionsAndFilesMustExist) {
     EXPECT_THAT(err, ::testing::HasSubstr(std::string("sc.ini: [scenario] key '") + key +
                                           "' = 'nosuch'"));
   }
-  // The default names may be absent where the section is optional.
-  EXPECT_EQ(loadError(std::regex_replace(base, std::regex(R"(\[faults\])"), "[notfaults]")), "");
+  // The default names may be absent where the section is optional ([faults] ends the file)...
+  EXPECT_EQ(loadError(std::regex_replace(base, std::regex(R"(\[faults\][\s\S]*$)"), "")), "");
+  // ... but a section of another name is refused, not ignored (issue 39: `[gyr]` simulated
+  // no gyro).
+  EXPECT_THAT(loadError(std::regex_replace(base, std::regex(R"(\[faults\])"), "[notfaults]")),
+              ::testing::HasSubstr("sc.ini: [notfaults]: unknown section; did you mean [faults]?"));
 }
 
 }  // namespace
