@@ -94,6 +94,17 @@ class CameraModel {
   Distortion dist_;
 };
 
+/// The image sizes taken: a side of at most 32768 px and at most 2^28 pixels (268 MP, 512 MB
+/// at 16 bits), beyond any star camera, so that no camera file makes a command allocate
+/// without bound.
+constexpr int kMaxImageSide = 32768;
+constexpr long long kMaxImagePixels = 1LL << 28;
+/// Focal lengths taken [px]: from a 1 px lens (a near-hemispheric view) to a 0.002"/px one.
+constexpr double kMinFocalPx = 1, kMaxFocalPx = 1e8;
+/// The largest radial displacement the distortion model may make anywhere in the image, as a
+/// fraction of the radius: a lens a star camera uses stays well inside; beyond it OpenCV's
+/// polynomial is not a lens (and a number like k1 = 1e6 is a typo).
+constexpr double kMaxDistortionFraction = 0.5;
 /// The pixel aspects taken (binning up to 8x in one direction).
 constexpr double kMinPixelAspect = 0.125, kMaxPixelAspect = 8;
 /// True for a pixel aspect (CameraModel::pixelAspect) within 0.1 % of 1: a camera calibrated

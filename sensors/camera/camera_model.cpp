@@ -13,6 +13,10 @@
 
 namespace st {
 
+namespace {
+Mat2 distortionJacobian(const Distortion& d, const Vec2& xy);
+}  // namespace
+
 CameraModel::CameraModel(int width, int height, double fx, double fy, double cx, double cy,
                          Distortion dist, const std::string& source)
     : width_(width), height_(height), fx_(fx), fy_(fy), cx_(cx), cy_(cy), dist_(dist) {
@@ -21,15 +25,52 @@ CameraModel::CameraModel(int width, int height, double fx, double fy, double cx,
 
 void CameraModel::validate(const std::string& source) const {
   auto bad = [&](const std::string& what) { throw InputError(source + ": " + what); };
-  if (width_ <= 0 || height_ <= 0)
-    bad("image size must be positive, got " + std::to_string(width_) + "x" +
+  if (width_ <= 0 || height_ <= 0 || width_ > kMaxImageSide || height_ > kMaxImageSide ||
+      static_cast<long long>(width_) * height_ > kMaxImagePixels)
+    bad("image size must be 1 to " + std::to_string(kMaxImageSide) + " px a side and at most " +
+        std::to_string(kMaxImagePixels) + " pixels, got " + std::to_string(width_) + "x" +
         std::to_string(height_));
-  if (!(fx_ > 0) || !(fy_ > 0) || !std::isfinite(fx_) || !std::isfinite(fy_))
-    bad("focal lengths must be positive and finite, got fx=" + std::to_string(fx_) +
+  if (!(fx_ >= kMinFocalPx && fx_ <= kMaxFocalPx) || !(fy_ >= kMinFocalPx && fy_ <= kMaxFocalPx))
+    bad("focal lengths must be in [1, 1e8] px, got fx=" + std::to_string(fx_) +
         " fy=" + std::to_string(fy_));
-  if (!std::isfinite(cx_) || !std::isfinite(cy_)) bad("principal point must be finite");
+  if (!(fx_ / fy_ >= kMinPixelAspect && fx_ / fy_ <= kMaxPixelAspect))
+    bad("fx / fy (the pixel aspect) must be in [" + std::to_string(kMinPixelAspect) + ", " +
+        std::to_string(kMaxPixelAspect) + "], got " + std::to_string(fx_ / fy_));
+  // The principal point is where the optical axis meets the sensor: on it.
+  if (!(cx_ >= -0.5 && cx_ <= width_ - 0.5) || !(cy_ >= -0.5 && cy_ <= height_ - 0.5))
+    bad("principal point (" + std::to_string(cx_) + ", " + std::to_string(cy_) +
+        ") must be inside the " + std::to_string(width_) + "x" + std::to_string(height_) +
+        " image");
   for (double k : {dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3})
     if (!std::isfinite(k)) bad("distortion coefficients must be finite");
+  // What a lens can do: over the whole image the model moves no point by more than
+  // kMaxDistortionFraction of its radius and never folds the image onto itself (its Jacobian
+  // stays positive), on a 17 x 17 grid to the corners.
+  constexpr int kGrid = 16;
+  const bool pinhole = dist_.k1 == 0 && dist_.k2 == 0 && dist_.p1 == 0 && dist_.p2 == 0 && dist_.k3 == 0;
+  for (int i = 0; i <= kGrid && !pinhole; ++i) {
+    for (int j = 0; j <= kGrid; ++j) {
+      const Vec2 xy((width_ * i / double(kGrid) - 0.5 - cx_) / fx_,
+                    (height_ * j / double(kGrid) - 0.5 - cy_) / fy_);
+      const double r = xy.norm();
+      if (r == 0) continue;
+      const Vec2 d = distortNormalised(xy);
+      const double moved = (d - xy).norm() / r;
+      const double det = distortionJacobian(dist_, xy).determinant();
+      if (!(moved <= kMaxDistortionFraction) || !(det > 0)) {
+        std::ostringstream what;
+        what << "distortion k1=" << dist_.k1 << " k2=" << dist_.k2 << " p1=" << dist_.p1
+             << " p2=" << dist_.p2 << " k3=" << dist_.k3 << " is not a lens: at pixel ("
+             << width_ * i / double(kGrid) - 0.5 << ", " << height_ * j / double(kGrid) - 0.5
+             << ") it "
+             << (det > 0 ? "moves a point by " + std::to_string(int(std::round(100 * moved))) +
+                               " % of its distance from the centre (at most " +
+                               std::to_string(int(100 * kMaxDistortionFraction)) + " %)"
+                         : std::string("folds the image onto itself"));
+        bad(what.str());
+      }
+    }
+  }
 }
 
 CameraModel CameraModel::fromFov(int width, int height, double hfov, double pixel_aspect) {
@@ -231,6 +272,42 @@ void requireTextFile(const std::string& path) {
   }
 }
 
+namespace {
+
+/// A whole number written as a number (OpenCV reads the text "wide" as INT_MAX).
+int integerNode(const cv::FileNode& n, const std::string& where) {
+  if (!n.isInt() && !n.isReal())
+    throw InputError(where + " = '" + (n.isString() ? n.string() : std::string("(not a value)")) +
+                     "': not a number");
+  const double v = n.real();
+  if (!std::isfinite(v) || v != std::floor(v) || std::abs(v) > 1e9)
+    throw InputError(where + " = " + std::to_string(v) + ": not a whole number of pixels");
+  return static_cast<int>(v);
+}
+
+/// A matrix node of a camera file: an OpenCV matrix of a floating type ('d' or 'f': an integer
+/// type such as 's' truncates every value, k1 = -0.08 becoming 0) whose data are numbers, or
+/// a plain sequence of numbers.
+void requireRealMatrix(const cv::FileNode& n, const std::string& where) {
+  cv::FileNode data = n;
+  if (n.isMap()) {
+    const cv::FileNode dt = n["dt"];
+    const std::string type = dt.isString() ? dt.string() : "";
+    if (type != "d" && type != "f")
+      throw InputError(where + ": dt '" + type +
+                       "' is not a floating type (an integer type truncates the values; "
+                       "camera files use 'd')");
+    data = n["data"];
+  }
+  if (!data.isSeq()) throw InputError(where + ": not a matrix or a sequence of numbers");
+  for (const cv::FileNode& v : data)
+    if (!v.isInt() && !v.isReal())
+      throw InputError(where + ": '" + (v.isString() ? v.string() : std::string("?")) +
+                       "' is not a number");
+}
+
+}  // namespace
+
 CameraModel CameraModel::loadYaml(const std::string& path) {
   requireCameraFile(path);
   requireTextFile(path);
@@ -259,12 +336,13 @@ CameraModel CameraModel::loadYaml(const std::string& path) {
                         int(n["rows"]) < 0 || int(n["cols"]) < 0))
         throw InputError(path + ": key '" + key + "' declares a " + std::to_string(int(n["rows"])) +
                          "x" + std::to_string(int(n["cols"])) + " matrix (at most 16 values)");
+      requireRealMatrix(n, path + ": key '" + key + "'");
       return n;
     };
     small("camera_matrix") >> K;
     small("distortion_coefficients") >> D;
-    w = static_cast<int>(need("image_width"));
-    h = static_cast<int>(need("image_height"));
+    w = integerNode(need("image_width"), path + ": key 'image_width'");
+    h = integerNode(need("image_height"), path + ": key 'image_height'");
   } catch (const cv::Exception& e) {
     throw InputError(path + ": malformed camera file (" + e.err + ")");
   } catch (const InputError&) {
