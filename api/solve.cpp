@@ -6,6 +6,7 @@
 
 #include "imageio/image_file.hpp"
 #include "include/startracker/startracker.hpp"
+#include "sensors/identify/star_observation.hpp"
 #include "solve/plate_solver.hpp"
 
 namespace st::api {
@@ -34,6 +35,9 @@ solve::SolveOptions stageOptions(const SolveOptions& o) {
                      ": must be a Julian year in [1000, 3000] (as solve's --epoch)");
   c.epoch = o.epoch_jyear.value_or(0);
   c.max_stars = o.max_stars;
+  if (o.min_sigma_px && !(*o.min_sigma_px > 0 && *o.min_sigma_px <= kMaxCentroidSigmaFloorPx))
+    throw InputError("min_sigma_px " + std::to_string(*o.min_sigma_px) +
+                     ": must be in (0, 2] px (as solve's --min-sigma-px)");
   c.min_sigma_px = o.min_sigma_px.value_or(-1);
   if (o.parity != "normal" && o.parity != "flipped" && o.parity != "both")
     throw InputError("parity '" + o.parity + "': must be normal, flipped or both");

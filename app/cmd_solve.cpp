@@ -90,8 +90,9 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
       ->check(CLI::Range(4, 100))
       ->capture_default_str();
   cmd->add_option("--min-sigma-px", o->min_sigma_px,
-                  "Floor of the centroid 1-sigma [px] (default 0.1); the camera model's own "
-                  "error is measured on the stars and added");
+                  "Floor of the centroid 1-sigma [px] (default 0.1, at most 2); the camera "
+                  "model's own error is measured on the stars and added")
+      ->check(cli::Number(0, kMaxCentroidSigmaFloorPx, cli::Bound::kOpen));
   cmd->add_option("--dark", o->dark,
                   "Master dark (`startracker dark`; FITS, PNG or TIFF, the images' size and "
                   "depth), subtracted before detection");

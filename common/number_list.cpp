@@ -1,5 +1,6 @@
 #include "common/number_list.hpp"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,7 +19,8 @@ std::vector<double> parseNumberList(const std::string& text, const std::string& 
     try {
       std::size_t used = 0;
       out.push_back(std::stod(tok, &used));
-      if (used != tok.size()) throw std::invalid_argument(tok);
+      // inf and nan are no setting (a scalar key refuses them too).
+      if (used != tok.size() || !std::isfinite(out.back())) throw std::invalid_argument(tok);
     } catch (const std::exception&) {
       throw InputError(where + ": '" + tok + "' is not a number");
     }

@@ -12,8 +12,10 @@ namespace st {
 ProgressBar::ProgressBar(std::string label, std::size_t total, bool enabled)
     : label_(std::move(label)),
       total_(std::max<std::size_t>(total, 1)),
-      enabled_(enabled && !log::quiet()),
+      // Only on a terminal: a redirected stderr is a log or a pipe, where bars are noise
+      // between the messages that matter (issue 39).
       tty_(isatty(STDERR_FILENO) != 0),
+      enabled_(enabled && !log::quiet() && tty_),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
@@ -23,21 +25,13 @@ void ProgressBar::update(std::size_t done) {
   done_ = std::min(done, total_);
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
-  if (tty_) {
-    if (now - last_draw_ > std::chrono::milliseconds(100) || done_ == total_) {
-      last_draw_ = now;
-      draw(false);
-    }
-  } else {
-    const int decile = static_cast<int>(10 * done_ / total_);
-    if (decile != last_decile_) {
-      last_decile_ = decile;
-      draw(true);
-    }
+  if (now - last_draw_ > std::chrono::milliseconds(100) || done_ == total_) {
+    last_draw_ = now;
+    draw();
   }
 }
 
-void ProgressBar::draw(bool final_line) {
+void ProgressBar::draw() {
   const double frac = static_cast<double>(done_) / static_cast<double>(total_);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -46,9 +40,8 @@ void ProgressBar::draw(bool final_line) {
   const int filled = static_cast<int>(frac * kWidth);
   std::string bar(static_cast<std::size_t>(filled), '#');
   bar.append(static_cast<std::size_t>(kWidth - filled), '.');
-  std::fprintf(stderr, "%s%s [%s] %3.0f%% %zu/%zu  %.1fs elapsed, ETA %.1fs%s",
-               tty_ ? "\r" : "", label_.c_str(), bar.c_str(), 100 * frac, done_, total_,
-               elapsed_s, eta_s, final_line ? "\n" : "");
+  std::fprintf(stderr, "\r%s [%s] %3.0f%% %zu/%zu  %.1fs elapsed, ETA %.1fs", label_.c_str(),
+               bar.c_str(), 100 * frac, done_, total_, elapsed_s, eta_s);
   std::fflush(stderr);
 }
 
@@ -56,12 +49,8 @@ void ProgressBar::finish() {
   if (finished_) return;
   finished_ = true;
   if (!enabled_) return;
-  if (tty_) {
-    draw(false);
-    std::fputc('\n', stderr);
-  } else if (last_decile_ != 10) {
-    draw(true);
-  }
+  draw();
+  std::fputc('\n', stderr);
 }
 
 }  // namespace st

@@ -1,6 +1,6 @@
 /// @file progress.hpp
-/// A text progress bar for long jobs, on stderr. On a terminal it redraws one line; when
-/// stderr is a file or pipe (CI logs) it prints a line every 10 %. Silent under -q
+/// A text progress bar for long jobs, on stderr, redrawn on one line, and only when stderr
+/// is a terminal (a file or pipe gets the messages alone). Silent under -q
 /// (st::log::quiet(), read when the bar is made) whatever `enabled` says.
 #pragma once
 #include <chrono>
@@ -19,14 +19,13 @@ class ProgressBar {
   void finish();
 
  private:
-  void draw(bool final_line);
+  void draw();
   std::string label_;
   std::size_t total_;
   std::size_t done_ = 0;
+  bool tty_;  // before enabled_, which reads it
   bool enabled_;
-  bool tty_;
   bool finished_ = false;
-  int last_decile_ = -1;
   std::chrono::steady_clock::time_point start_, last_draw_;
 };
 

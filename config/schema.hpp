@@ -19,6 +19,8 @@
 ///   std::string text = gyroSchema().print("gyro", g);    // "[gyro]\n# [Hz] ...\nrate_hz = 100\n..."
 #pragma once
 #include <functional>
+#include <stdexcept>
+#include <type_traits>
 #include <set>
 #include <string>
 #include <utility>
@@ -52,6 +54,7 @@ class SectionSchema {
     std::function<bool(const IniReader&, const std::string&)> present;
     std::function<void(const IniReader&, const std::string&, T&)> read;
     std::function<std::string(const T&)> write;
+    std::function<double(const T&)> number;  ///< a numeric member's value (range())
   };
 
   /// A key bound to a member of type double, int, uint64_t, bool, std::string, number or
@@ -66,7 +69,28 @@ class SectionSchema {
       IniCodec<V>::read(r, s, key, t.*member);
     };
     k.write = [member](const T& t) { return IniCodec<V>::write(t.*member); };
+    if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>)
+      k.number = [member](const T& t) { return static_cast<double>(t.*member); };
     keys_.push_back(std::move(k));
+    return *this;
+  }
+
+  /// Bounds the last key added (a number) to [lo, hi], stated in its help: a value outside is
+  /// an InputError naming the key and the range, before any work (issue 39: `rate_hz =
+  /// 2147483647` filled the disk, filter noise 3.4e38 and biases 1e308 were taken).
+  SectionSchema& range(double lo, double hi) {
+    Key& k = keys_.back();
+    if (!k.number) throw std::logic_error("range() on the non-numeric key " + k.name);
+    const std::string span = "[" + IniCodec<double>::write(lo) + ", " + IniCodec<double>::write(hi) + "]";
+    k.help += " " + span;
+    k.read = [plain = k.read, number = k.number, key = k.name, lo, hi, span](
+                 const IniReader& r, const std::string& s, T& t) {
+      plain(r, s, t);
+      const double v = number(t);
+      if (!(v >= lo && v <= hi))
+        throw InputError(r.whereKey(s, key) + " = " + IniCodec<double>::write(v) +
+                         ": must be in " + span);
+    };
     return *this;
   }
 
@@ -124,6 +148,7 @@ class SectionSchema {
       auto wr = ik.write;
       k.read = [rd, part](const IniReader& r, const std::string& s, T& t) { rd(r, s, t.*part); };
       k.write = [wr, part](const T& t) { return wr(t.*part); };
+      if (ik.number) k.number = [nb = ik.number, part](const T& t) { return nb(t.*part); };
       keys_.push_back(std::move(k));
     }
     renamed_.insert(renamed_.end(), inner.renamedKeys().begin(), inner.renamedKeys().end());

@@ -19,8 +19,11 @@ const SectionSchema<FilterIniKeys>& filterIniSchema() {
                "false: no filter; every frame is solved lost-in-space (with the gyro's rate for "
                "its streaks) and its fix is the output, unfiltered: acquisition on its own")
           .add("arw_deg_rt_h", &F::arw_deg_rt_h, "[deg/sqrt(h)] gyro angle random walk")
+          .range(0, 100)
           .add("rrw_deg_h_rt_h", &F::rrw_deg_h_rt_h, "[deg/h/sqrt(h)] gyro rate random walk")
+          .range(0, 1000)
           .add("bias_sigma_deg_h", &F::bias_sigma_deg_h, "[deg/h] prior 1-sigma of the gyro bias")
+          .range(0, 1e5)
           .add("gate", &F::gate, "chi-square gate of the updates")
           .add("gate_probability", &F::gate_probability, "reject when NIS > quantile(p, dof)")
           .add("max_star_vectors", &F::max_star_vectors, "stars per star-vector update at most")
@@ -32,8 +35,10 @@ const SectionSchema<FilterIniKeys>& filterIniSchema() {
           .add("rate_walk_rad_s2_rt_hz", &F::rate_walk_rad_s2_rt_hz,
                "[rad/s^2/sqrt(Hz)] gyroless: spectral density of the body-rate random walk "
                "(over T seconds the rate wanders by this x sqrt(T) per axis)")
+          .range(0, 10)
           .add("rate_sigma_deg_s", &F::rate_sigma_deg_s,
-               "[deg/s] gyroless: prior 1-sigma of the body rate at the first fix");
+               "[deg/s] gyroless: prior 1-sigma of the body rate at the first fix")
+          .range(0, 360);
   return s;
 }
 

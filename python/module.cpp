@@ -160,7 +160,9 @@ PYBIND11_MODULE(_startracker, m) {
 
   auto solve_doc =
       "Lost-in-space solve; returns the dict `startracker solve --json` prints (solved or "
-      "not). ValueError for bad input.";
+      "not). ValueError for bad input. An array has no date: epoch= [Julian year] gives the "
+      "observation's (else the database's, else today: the result's epoch_source says which; "
+      "solve_file reads DATE-OBS or the file name); no_aberration=True: astrometric ICRS.";
   m.def(
       "solve",
       [](py::array image, std::optional<double> fov_deg, const std::string& camera,

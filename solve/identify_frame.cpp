@@ -15,6 +15,9 @@ PlateSolveResult identifyFrame(const SolveOptions& o, const std::vector<Centroid
   IdentifyOptions io;
   io.solver = o.solver;
   io.max_stars = o.max_stars;
+  if (o.cpulimit_s > 0)  // inside each try as well as between them
+    io.deadline = t_start + std::chrono::duration_cast<Clock::duration>(
+                                std::chrono::duration<double>(o.cpulimit_s));
   std::string err;
   auto identifier = StarIdentifier::create(o.algorithm, io, &err);
   if (!identifier) throw InputError(option_prefix + "algorithm: " + err);

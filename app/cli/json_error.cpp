@@ -8,10 +8,9 @@
 namespace st::app::cli {
 
 nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {
-  nlohmann::ordered_json j = solve::errorJson(message, exit_code);  // one place for the keys
-  j.erase("solved");
-  j.erase("status");
-  return j;
+  // The keys of solve's own failure, as the README states them: a script reads "solved" and
+  // "status" whatever failed (issue 39: a usage error lacked them).
+  return solve::errorJson(message, exit_code);
 }
 
 bool jsonRequested(const std::vector<std::string>& args) {

@@ -15,7 +15,7 @@
 
 namespace st::app::cli {
 
-/// {"error": message, "exit_code": exit_code}
+/// {"solved": false, "status": "error", "error": message, "exit_code": exit_code}
 nlohmann::ordered_json errorJson(const std::string& message, int exit_code);
 
 /// True when `--json` is among `args` (before a `--` that ends the options), whether or not

@@ -116,7 +116,10 @@ bool SearchContext::tryHypothesis(const std::vector<StarMatch>& seeds) {
 }
 
 bool SearchContext::done() const {
-  return solved || hypotheses >= opt.max_verifications || candidates_ >= opt.max_candidates;
+  if (solved || hypotheses >= opt.max_verifications || candidates_ >= opt.max_candidates)
+    return true;
+  return opt.deadline && (++done_calls_ & 255u) == 0 &&
+         std::chrono::steady_clock::now() >= *opt.deadline;
 }
 
 // ---- StarIdentifier --------------------------------------------------------------------------

@@ -20,6 +20,7 @@
 /// Thread safety: an identifier keeps scratch buffers between calls; use one per thread.
 #pragma once
 #include <chrono>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -56,6 +57,9 @@ struct IdentifyOptions {
   /// field is TooFewStars.
   double magnitude_sigma = 0;
   VerifyOptions verify;          ///< scale_tolerance is copied from above
+  /// When set, the search gives up at this time like at a used-up budget (solve --cpulimit:
+  /// a limit between tries alone let one try with a huge tolerance run on).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 
   /// True when all values are usable (the solver name included); otherwise false with `why`
   /// naming the field.

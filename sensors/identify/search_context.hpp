@@ -122,6 +122,7 @@ class SearchContext {
   std::vector<double> theta_, tol_, cos_lo_, cos_hi_;
   double attitudes_ = 0;
   long candidates_ = 0;
+  mutable unsigned done_calls_ = 0;  ///< the deadline's clock is read every 256th done()
 };
 
 }  // namespace st

@@ -17,6 +17,12 @@ struct StarObservation {
   double brightness = 0;       ///< flux [ADU] (only the order matters)
 };
 
+/// The largest centroid-sigma floor taken [px] (solve --min-sigma-px, the tracker's
+/// min_sigma_px): a pair tolerance of several sigma that wide admits so many catalog pairs that
+/// no pattern is unique (3 px fails on every tetra3 frame, 10 px takes seconds, 30 px did not
+/// end: issue 39); a centroid worse than 2 px is no star.
+constexpr double kMaxCentroidSigmaFloorPx = 2.0;
+
 /// Centroids -> camera-frame unit vectors. The pixel covariance is mapped to the tangent
 /// plane of the unit sphere through the inverse pixel Jacobian (CameraModel::pixelJacobian)
 /// and the derivative of p/|p|, p = (x, y, 1); `sigma` is the RMS per axis sqrt(trace/2) of

@@ -117,6 +117,7 @@ RawlogReader::RawlogReader(const std::string& path) : path_(path) {
     throw InputError("rawlog '" + path + "': cannot open" + (err.empty() ? "" : " (" + err + ")"));
   }
   ar_ = mrpt::serialization::archiveUniquePtrFrom(*file_);
+  budget_ = rawlogReadBudget(fs::file_size(path, ec));
   mrpt::img::CImage::setImagesPathBase(rawlogImagesDir(path));
 }
 
@@ -129,7 +130,10 @@ mrpt::obs::CObservation::Ptr RawlogReader::next() {
   };
   mrpt::serialization::CSerializable::Ptr obj;
   try {
-    obj = ar_->ReadObject();
+    {
+      const ReadAllocationBudget budget(budget_);  // a damaged length is damage, not gigabytes
+      obj = ar_->ReadObject();
+    }
     offset_ = file_->getPosition();
   } catch (const mrpt::serialization::CExceptionEOF&) {
     at_end_ = true;
@@ -145,6 +149,16 @@ mrpt::obs::CObservation::Ptr RawlogReader::next() {
             : "the file ends inside the object";
     throw RawlogDamageError(where() + "(byte " + std::to_string(offset_) +
                                 " of the uncompressed stream) truncated: " + why,
+                            count_, offset_, why);
+  } catch (const std::bad_alloc&) {
+    at_end_ = true;
+    std::error_code ec;
+    const std::string why = "the object declares more memory than this " +
+                            std::to_string(fs::file_size(path_, ec)) +
+                            "-byte file can describe (a damaged length; at most " +
+                            std::to_string(budget_ >> 20) + " MB read for it)";
+    throw RawlogDamageError(where() + "(byte " + std::to_string(offset_) +
+                                " of the uncompressed stream) damaged: " + why,
                             count_, offset_, why);
   } catch (const std::exception& e) {
     at_end_ = true;

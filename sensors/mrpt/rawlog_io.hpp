@@ -136,6 +136,7 @@ class RawlogReader {
   std::size_t count_ = 0;
   std::uint64_t offset_ = 0;
   bool at_end_ = false;
+  std::size_t budget_ = 0;  ///< allocations one object may make (mrpt_allocation.hpp)
 };
 
 /// Reads the whole rawlog (see RawlogReader for the errors).

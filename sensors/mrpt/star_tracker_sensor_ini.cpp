@@ -29,6 +29,7 @@ const SectionSchema<StarTrackerSensorKeys>& starTrackerSensorSchema() {
           .add("frame_rate_hz", &K::frame_rate_hz,
                "image_source = camera: [Hz] stamp frame k at frame_start_time + k / rate (a "
                "recorded folder or video); 0 = the grabber's clock")
+          .range(0, 1000)
           .add("frame_start_time", &K::frame_start_time,
                "with frame_rate_hz: UTC of frame 0, YYYY-MM-DDTHH:MM:SS; empty = the first "
                "frame's grabber stamp")

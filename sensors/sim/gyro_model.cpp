@@ -37,11 +37,17 @@ const SectionSchema<GyroParams>& gyroParamsSchema() {
       SectionSchema<G>()
           .add("rate_hz", &G::rate_hz, "[Hz] sample rate, > 0")
           .required()
+          .range(0.01, 10000)
           .add("arw_deg_rt_h", &G::arw_deg_rt_h, "[deg/sqrt(h)] angle random walk, >= 0")
+          .range(0, 100)
           .add("rrw_deg_h_rt_h", &G::rrw_deg_h_rt_h, "[deg/h/sqrt(h)] rate random walk, >= 0")
+          .range(0, 1000)
           .add("bias_deg_h", &G::bias_deg_h, "[deg/h] constant bias on every axis")
+          .range(-1e5, 1e5)
           .add("scale_factor_ppm", &G::scale_factor_ppm, "[ppm] scale factor error")
-          .add("quantum_rad_s", &G::quantum_rad_s, "[rad/s] output quantum; 0 = none");
+          .range(-1e6, 1e6)
+          .add("quantum_rad_s", &G::quantum_rad_s, "[rad/s] output quantum; 0 = none")
+          .range(0, 1);
   return schema;
 }
 

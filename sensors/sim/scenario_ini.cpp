@@ -21,7 +21,9 @@ const SectionSchema<ScenarioKeys>& scenarioKeysSchema() {
   static const auto schema =
       SectionSchema<S>()
           .add("duration_s", &S::duration_s, "[s] run length, > 0")
+          .range(1e-3, 864000)
           .add("frame_rate_hz", &S::frame_rate_hz, "[Hz] camera frame rate, > 0")
+          .range(1e-3, 1000)
           .add("start_time", &S::start_time, "UTC of t = 0, YYYY-MM-DDTHH:MM:SS (empty = start_jyear)")
           .add("start_jyear", &S::start_jyear, "[Julian year] t = 0 when start_time is empty")
           .add("seed", &S::seed, "default run seed (the CLI's --seed overrides it)")

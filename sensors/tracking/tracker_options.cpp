@@ -1,5 +1,7 @@
 #include "sensors/tracking/tracker_options.hpp"
 
+#include "sensors/identify/star_observation.hpp"
+
 #include <cmath>
 
 #include "common/errors.hpp"
@@ -38,8 +40,10 @@ const char* badNumber(const TrackerOptions& o, const char** why) {
       {o.max_propagation_s > 0, "max_propagation_s", "must be > 0"},
       {o.accel_sigma >= 0, "accel_sigma", "must be >= 0"},
       {o.gyro_sigma >= 0, "gyro_sigma", "must be >= 0"},
-      {o.min_sigma_px > 0, "min_sigma_px", "must be > 0"},
-      {o.tracking_min_sigma_px > 0, "tracking_min_sigma_px", "must be > 0"},
+      {o.min_sigma_px > 0 && o.min_sigma_px <= kMaxCentroidSigmaFloorPx, "min_sigma_px",
+       "must be in (0, 2] px"},
+      {o.tracking_min_sigma_px > 0 && o.tracking_min_sigma_px <= kMaxCentroidSigmaFloorPx,
+       "tracking_min_sigma_px", "must be in (0, 2] px"},
       {o.camera_heal_range >= 0 && o.camera_heal_range <= 0.2, "cam_heal_range",
        "must be in [0, 0.2] (a camera file more than 20 % off is not a camera file)"},
       {o.online_camera.frames_per_fit >= 1, "cam_online_frames", "must be >= 1"},

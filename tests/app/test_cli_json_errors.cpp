@@ -1,6 +1,7 @@
 // Issue 21 item 4 (parse-error part): with --json on the command line, a failure that
-// reaches main prints ONE JSON object on stdout, {"error": "...", "exit_code": N} (the keys
-// solve uses for its own {"solved": false, ...}), besides the human message on stderr.
+// reaches main prints ONE JSON object on stdout, {"solved": false, "status": "error", "error":
+// "...", "exit_code": N} (solve's own failure object, as the README says: issue 39 found a
+// usage error without "solved"/"status"), besides the human message on stderr.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -25,6 +26,8 @@ nlohmann::json expectJsonError(const std::string& args, int code) {
   EXPECT_TRUE(j.is_object()) << r.out;
   EXPECT_TRUE(j.contains("error") && j["error"].is_string()) << r.out;
   EXPECT_EQ(j.value("exit_code", -1), code) << r.out;
+  EXPECT_EQ(j.value("solved", true), false) << r.out;
+  EXPECT_EQ(j.value("status", ""), "error") << r.out;
   // The human message is still on stderr, with the same text.
   if (j.contains("error") && j["error"].is_string()) {
     EXPECT_NE(r.err.find(j["error"].get<std::string>()), std::string::npos) << r.err;

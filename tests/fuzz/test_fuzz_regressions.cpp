@@ -179,7 +179,10 @@ TEST(FuzzRegressions, MatrixOfDeclaredGigabytesIsReportedAsDamageNotSegfault) {
   const test::CliRun r = test::runCli("replay '" + path + "'");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("rawlog '" + path + "', object 0"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("bad_alloc"), std::string::npos) << r.err;
+  // Refused by the read budget before MRPT's allocator (issue 39), in words, not "bad_alloc".
+  EXPECT_NE(r.err.find("declares more memory than this 53-byte file can describe"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace
