@@ -39,8 +39,9 @@ struct GeometryArgs {
   void addTo(CLI::App* c) {
     using cli::Bound;
     using cli::Number;
+    // 16384 px a side: twice an 8K display; 100000 px asked OpenCV for 40 GB (issue 39).
     c->add_option("--screen-px", screen_px, "Screen size W H [px]")->expected(2)
-        ->check(cli::WholeNumber(1, 100000))->capture_default_str();
+        ->check(cli::WholeNumber(16, 16384))->capture_default_str();
     c->add_option("--screen-mm", screen_mm, "Screen's visible area W H [mm]")->expected(2)
         ->check(Number(0, 1e5, Bound::kOpen))->capture_default_str();
     c->add_option("--distance-m", distance_m,

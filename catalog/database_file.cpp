@@ -21,6 +21,7 @@
 
 #include <string_view>
 
+#include "common/output_file.hpp"
 #include "catalog/star_database.hpp"
 #include "common/errors.hpp"
 
@@ -168,11 +169,7 @@ void StarDatabase::save(const std::string& path, uint32_t format) const {
   }
   w.put(crc32Of(w.buf.data(), w.buf.size()));
 
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path + ": cannot open for writing the star database");
-  out.write(w.buf.data(), std::streamsize(w.buf.size()));
-  out.close();
-  if (!out) throw InputError(path + ": write failed (disk full?)");
+  writeFileAtomically(path, w.buf.data(), w.buf.size());
 }
 
 namespace {

@@ -15,7 +15,9 @@ namespace {
 // Field numbers (from /work/shared/data/README.md and the CDS ReadMe of I/239).
 constexpr int kFieldHip = 1, kFieldVmag = 5, kFieldRaDeg = 8, kFieldDeDeg = 9, kFieldPlx = 11,
               kFieldPmRa = 12, kFieldPmDe = 13, kFieldBV = 37;
-constexpr int kMinFields = kFieldBV + 1;
+/// A hip_main.dat record (CDS I/239) has exactly 78 fields, "H" and H1..H77: fewer is a record
+/// cut short (issue 39: a file cut mid-record built a database without a word).
+constexpr int kRecordFields = 78;
 
 }  // namespace
 
@@ -28,10 +30,11 @@ StarCatalog loadHipparcos(const std::string& path) {
   cat.epoch_jyear = 1991.25;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   catalog_detail::forEachPipeRecord(path, "Hipparcos catalog", [&](const PipeFields& f) {
-    if (int(f.size()) < kMinFields)
-      throw InputError(f.place() + ": only " + std::to_string(f.size()) +
-                       " '|'-separated fields, need at least " + std::to_string(kMinFields) +
-                       " (not a hip_main.dat line, or truncated)");
+    if (int(f.size()) != kRecordFields)
+      throw InputError(f.place() + ": " + std::to_string(f.size()) + " '|'-separated fields where a "
+                       "hip_main.dat record has " + std::to_string(kRecordFields) +
+                       " (a record cut short: the file is truncated or damaged; or not a "
+                       "hip_main.dat line)");
     if (f[0] != "H")
       throw InputError(f.where("0 (catalog letter)") + ": expected 'H', got '" + f[0] + "'");
     const double hip = f.number(kFieldHip, "1 (HIP)", -1);

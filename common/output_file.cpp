@@ -61,7 +61,9 @@ void prepareOutputDir(const std::string& dir, const std::string& flag) {
 
 PendingOutput::PendingOutput(std::string path) : path_(std::move(path)) {
   const fs::path p(path_);
-  temp_ = (p.parent_path() / ("." + p.filename().string() + ".partial")).string();
+  // The extension stays last: writers that choose a format by it (OpenCV's FileStorage,
+  // cfitsio) write the same file under the temporary name.
+  temp_ = (p.parent_path() / (".partial-" + p.filename().string())).string();
 }
 
 PendingOutput::~PendingOutput() {
@@ -76,6 +78,17 @@ void PendingOutput::commit() {
   fs::rename(temp_, path_, ec);
   if (ec) throw InputError(path_ + ": cannot be written (renaming " + temp_ + ": " + ec.message() + ")");
   committed_ = true;
+}
+
+void writeFileAtomically(const std::string& path, const char* data, std::size_t size) {
+  PendingOutput out(path);
+  {
+    std::FILE* f = std::fopen(out.tempPath().c_str(), "wb");
+    if (!f) throw InputError(path + ": cannot be written");
+    const bool ok = std::fwrite(data, 1, size, f) == size;
+    if (std::fclose(f) != 0 || !ok) throw InputError(path + ": write failed (disk full?)");
+  }
+  out.commit();
 }
 
 }  // namespace st

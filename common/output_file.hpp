@@ -4,6 +4,7 @@
 /// finished run. One policy for every command: missing parent folders are created; a path
 /// that cannot be written is an InputError naming the flag and the path.
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,7 @@ class PendingOutput {
   ~PendingOutput();
   PendingOutput(const PendingOutput&) = delete;
   PendingOutput& operator=(const PendingOutput&) = delete;
-  /// Where to write: `<folder>/.<name>.partial`.
+  /// Where to write: `<folder>/.partial-<name>` (hidden, the extension kept).
   const std::string& tempPath() const { return temp_; }
   const std::string& path() const { return path_; }
   /// Renames the temporary over the real path. Throws InputError naming it on failure.
@@ -51,5 +52,12 @@ class PendingOutput {
   std::string path_, temp_;
   bool committed_ = false;
 };
+
+/// Writes `size` bytes to `path` through a PendingOutput (complete or not at all). Throws
+/// InputError naming `path`.
+void writeFileAtomically(const std::string& path, const char* data, std::size_t size);
+inline void writeFileAtomically(const std::string& path, const std::string& text) {
+  writeFileAtomically(path, text.data(), text.size());
+}
 
 }  // namespace st

@@ -6,6 +6,7 @@
 ///
 /// libpng and libjpeg report errors by longjmp. Every function that calls setjmp below owns no
 /// object with a destructor (longjmp would skip it) and reads no local it changed after setjmp.
+#include "common/output_file.hpp"
 #include "imageio/image_codecs.hpp"
 
 #include <algorithm>
@@ -723,7 +724,8 @@ void writePng(const std::string& path, const cv::Mat& image) {
   // libpng does not write through the row pointers; it takes them as non-const.
   for (int y = 0; y < image.rows; ++y) rows[y] = const_cast<png_bytep>(image.ptr(y));
 
-  File file(std::fopen(path.c_str(), "wb"));
+  PendingOutput out(path);  // under its real name only once complete
+  File file(std::fopen(out.tempPath().c_str(), "wb"));
   if (!file) fail(path, std::string("cannot open for writing: ") + std::strerror(errno));
   std::string error;
   {
@@ -736,10 +738,8 @@ void writePng(const std::string& path, const cv::Mat& image) {
   }
   const bool closed = std::fclose(file.release()) == 0;
   if (error.empty() && !closed) error = std::string("write failed: ") + std::strerror(errno);
-  if (!error.empty()) {
-    std::remove(path.c_str());
-    fail(path, error);
-  }
+  if (!error.empty()) fail(path, error);  // the temporary goes with `out`
+  out.commit();
 }
 
 }  // namespace st::imageio

@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "imageio/image_file.hpp"
 
 #include "imageio/fits.hpp"
@@ -354,7 +355,8 @@ void writeImage(const std::string& path, const cv::Mat& image) {
   fitsfile* f = nullptr;
   int status = 0;
   long naxes[2] = {image.cols, image.rows};
-  const std::string clobber = "!" + path;  // cfitsio's way of replacing an existing file
+  PendingOutput out(path);  // under its real name only once complete
+  const std::string clobber = "!" + out.tempPath();  // cfitsio's way of replacing a file
   fits_create_file(&f, clobber.c_str(), &status);
   fits_create_img(f, wide ? USHORT_IMG : BYTE_IMG, 2, naxes, &status);
   const cv::Mat c = image.isContinuous() ? image : image.clone();
@@ -366,6 +368,7 @@ void writeImage(const std::string& path, const cv::Mat& image) {
     fits_get_errstatus(status, msg);
     throw InputError(path + ": cannot write the FITS image (cfitsio: " + msg + ")");
   }
+  out.commit();
 }
 
 }  // namespace st::imageio

@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "solve/wcs_header.hpp"
 
 #include <Eigen/QR>
@@ -199,10 +200,11 @@ void writeWcsHeader(const SolveReport& r, const std::string& path) {
                 err_fwd, err_inv);
   c.comment(b1);
   c.comment("(sky->pixel) over the image; startracker solve " + r.o.input);
-  std::ofstream f(path, std::ios::binary);
-  const std::string text = c.text();
-  f.write(text.data(), std::streamsize(text.size()));
-  if (!f) throw InputError("--wcs " + path + ": cannot write the file");
+  try {
+    writeFileAtomically(path, c.text());
+  } catch (const InputError& e) {
+    throw InputError(std::string("--wcs ") + e.what());
+  }
 }
 
 }  // namespace st::solve

@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "app/live/replay_config.hpp"
 
 #include <fstream>
@@ -38,9 +39,7 @@ std::string replayConfigText(const CStarTrackerSensor& tracker, const LiveIniKey
 
 void writeReplayConfig(const fs::path& path, const CStarTrackerSensor& tracker,
                        const LiveIniKeys& live) {
-  std::ofstream out(path);
-  out << replayConfigText(tracker, live);
-  if (!out) throw InputError(path.string() + ": cannot write the replay configuration");
+  writeFileAtomically(path.string(), replayConfigText(tracker, live));
 }
 
 }  // namespace st::app

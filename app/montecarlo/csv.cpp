@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "app/montecarlo/csv.hpp"
 
 #include <fstream>
@@ -51,11 +52,10 @@ bool splitLine(const std::string& line, Row& out) {
 }  // namespace
 
 void writeCsv(const Table& t, const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw InputError("cannot write '" + path + "'");
+  std::ostringstream f;
   writeLine(f, t.columns);
   for (const Row& r : t.rows) writeLine(f, r);
-  if (!f) throw InputError("error writing '" + path + "'");
+  writeFileAtomically(path, f.str());
 }
 
 Table readCsv(const std::string& path) {

@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "app/montecarlo/run_file.hpp"
 
 #include <mrpt/config/CConfigFileMemory.h>
@@ -45,12 +46,10 @@ const SectionSchema<McRunFile>& runFileSchema() {
 }
 
 void writeRunFile(const McOptions& o, std::size_t rows, const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw InputError("cannot write '" + path + "'");
   McRunFile run{o, std::to_string(o.shard_index) + "/" + std::to_string(o.shard_count), rows};
-  f << "# startracker montecarlo run description (read by `startracker montecarlo merge`)\n"
-    << runFileSchema().print(kRunSection, run);
-  if (!f) throw InputError("error writing '" + path + "'");
+  writeFileAtomically(path,
+                      "# startracker montecarlo run description (read by `startracker montecarlo "
+                      "merge`)\n" + runFileSchema().print(kRunSection, run));
 }
 
 McRunFile readRunFile(const std::string& path) {

@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "app/montecarlo/runner.hpp"
 
 #include <algorithm>
@@ -51,11 +52,7 @@ int writeReport(const Experiment& exp, const McOptions& o, const Table& trials) 
   if (!rep.plots.empty()) md += "## Plots\n\n";
   for (const ReportPlot& p : rep.plots)
     md += "![" + p.plot.title + "](" + exp.name() + "_" + p.name + ".png)\n\n";
-  {
-    std::ofstream f(base + ".md");
-    if (!f) throw InputError("cannot write '" + base + ".md'");
-    f << md;
-  }
+  writeFileAtomically(base + ".md", md);
   if (!rep.tables.empty())
     std::printf("%s\n%s\n", rep.tables.front().caption.c_str(),
                 toMarkdown(rep.tables.front().table).c_str());

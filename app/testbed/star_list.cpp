@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "app/testbed/star_list.hpp"
 
 #include <cmath>
@@ -17,8 +18,7 @@ constexpr const char* kTag = "# startracker testbed star list; attitude_ypr_deg 
 }  // namespace
 
 void writeStarList(const std::string& path, const DisplayStarList& list) {
-  std::ofstream f(path);
-  if (!f) throw InputError(path + ": cannot write the star list");
+  std::ostringstream f;
   char buf[256];
   std::snprintf(buf, sizeof buf, "%s %.12g %.12g %.12g\n%s\n", kTag, list.attitude_ypr_deg.x(),
                 list.attitude_ypr_deg.y(), list.attitude_ypr_deg.z(), kHeader);
@@ -30,7 +30,7 @@ void writeStarList(const std::string& path, const DisplayStarList& list) {
                   s.screen_px.y(), s.mag, rad2deg(ra), rad2deg(dec));
     f << buf;
   }
-  if (!f) throw InputError(path + ": write failed");
+  writeFileAtomically(path, f.str());
 }
 
 DisplayStarList readStarList(const std::string& path) {

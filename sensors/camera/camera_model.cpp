@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "sensors/camera/camera_model.hpp"
 
 #include <algorithm>
@@ -368,12 +369,16 @@ CameraModel CameraModel::loadYaml(const std::string& path) {
 }
 
 void CameraModel::saveYaml(const std::string& path) const {
-  cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw InputError(path + ": cannot write camera file");
-  cv::Mat K = (cv::Mat_<double>(3, 3) << fx_, 0, cx_, 0, fy_, cy_, 0, 0, 1);
-  cv::Mat D = (cv::Mat_<double>(1, 5) << dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
-  fs << "image_width" << width_ << "image_height" << height_ << "camera_matrix" << K
-     << "distortion_coefficients" << D;
+  PendingOutput out(path);  // the extension stays: FileStorage picks YAML or XML by it
+  {
+    cv::FileStorage fs(out.tempPath(), cv::FileStorage::WRITE);
+    if (!fs.isOpened()) throw InputError(path + ": cannot write camera file");
+    cv::Mat K = (cv::Mat_<double>(3, 3) << fx_, 0, cx_, 0, fy_, cy_, 0, 0, 1);
+    cv::Mat D = (cv::Mat_<double>(1, 5) << dist_.k1, dist_.k2, dist_.p1, dist_.p2, dist_.k3);
+    fs << "image_width" << width_ << "image_height" << height_ << "camera_matrix" << K
+       << "distortion_coefficients" << D;
+  }
+  out.commit();
 }
 
 namespace {

@@ -1,3 +1,4 @@
+#include "common/output_file.hpp"
 #include "sensors/sim/rawlog_writer.hpp"
 
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -40,8 +41,9 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
     fs::create_directories(sum.images_dir, ec);
     if (ec) throw InputError(sum.images_dir + ": cannot create the images folder (" + ec.message() + ")");
   }
+  PendingOutput out(rawlog_path);  // an interrupted run leaves no half rawlog under the name
   mrpt::io::CFileGZOutputStream file;
-  if (!file.open(rawlog_path)) throw InputError(rawlog_path + ": cannot write the rawlog");
+  if (!file.open(out.tempPath())) throw InputError(rawlog_path + ": cannot write the rawlog");
   auto ar = mrpt::serialization::archiveFrom(file);
 
   const int n_frames = sc.frameCount();
@@ -112,6 +114,7 @@ SimulateSummary simulateToRawlog(const Scenario& scenario_in, const std::string&
   flush_samples_until(sc.duration_s);
   bar.finish();
   file.close();
+  out.commit();
   return sum;
 }
 

@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -76,6 +77,27 @@ TEST(BoundedInputs, CameraFilesAreTypedAndBounded) {
   std::ofstream(dir + "/huge.ini") << "[CAM]\nresolution = [100000 100000]\ncx = 50000\ncy = 50000\n"
                                       "fx = 1000\nfy = 1000\ndist = [0 0 0 0 0]\n";
   expectRefused("config huge.ini", dir, "image size must be 1 to 32768 px a side");
+}
+
+TEST(BoundedInputs, DamagedOrAbsurdInputIsSaidNotPassedOn) {
+  const std::string dir = test::makeTempDir("bounded_damaged");
+  // A catalog cut in the middle of a record (was: a database built without a word).
+  test::runCommand("zcat '" + test::hipparcosSubsetPath() + "' | head -c 100000 > '" + dir +
+                   "/cut.dat'");
+  expectRefused("catalog build --catalog cut.dat --fov-deg 10 -o x.db", dir,
+                "cut.dat:");
+  expectRefused("catalog build --catalog cut.dat --fov-deg 10 -o x.db", dir,
+                "a record cut short");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.db"));
+  // A simulated camera of 100000 x 100000 px (was: std::bad_alloc).
+  expectRefused("simulate " + edited(dir, "hold.ini", "\nresolution\\s*=[^\n]*",
+                                     "\nresolution = [100000 100000]") + " -o s.rawlog --frames 1",
+                dir, "image size must be 1 to 32768 px a side");
+  // A testbed screen of 100000 px (was: OpenCV's "Failed to allocate 40000000000 bytes").
+  expectRefused("testbed draw --screen-px 100000 100000 -o d.png", dir, "--screen-px");
+  // A folder given as a database (was: "basic_string::_M_create").
+  std::filesystem::create_directory(dir + "/folder");
+  expectRefused("catalog info folder", dir, "folder: cannot read star database (not a regular file)");
 }
 
 TEST(BoundedInputs, NoProgressBarsInARedirectedStderr) {
