@@ -13,6 +13,7 @@
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
 #include "imageio/image_file.hpp"
+#include "solve/solve_epoch.hpp"
 #include "common/output_file.hpp"
 #include "catalog/database_cache.hpp"
 #include "catalog/database_recipe.hpp"
@@ -96,6 +97,17 @@ std::optional<SolvedFrame> solveFrame(const std::string& file, const cv::Mat& im
                                       const std::optional<CameraModel>& known,
                                       StarIdentifier& identifier) {
   const DetectionResult det = detectStars(image);
+  // -v: what detection made of the frame, then its brightest blobs (issue 39: an unsolved
+  // frame gave nothing to go on outside solve).
+  log::debug("%s: %zu stars detected (%d radiation hits, %d blobs rejected), frame PSF %.2f x "
+             "%.2f px%s%s",
+             file.c_str(), det.stars.size(), det.hits, det.rejected, det.psf_width_x,
+             det.psf_width_y, det.reason.empty() ? "" : "; ", det.reason.c_str());
+  for (std::size_t i = 0; i < std::min<std::size_t>(det.stars.size(), 10); ++i) {
+    const Centroid& c = det.stars[i];
+    log::debug("  #%zu at (%.2f, %.2f) px, flux %.0f, SNR %.1f, flags %s", i + 1, c.px.x(), c.px.y(), c.flux,
+               c.snr, centroidFlagNames(c.flags).c_str());
+  }
   if (!det.reason.empty() || det.stars.size() < 4) {
     log::warn("%s: skipped: too few stars detected (%zu)", file.c_str(), det.stars.size());
     return std::nullopt;
@@ -119,6 +131,9 @@ std::optional<SolvedFrame> solveFrame(const std::string& file, const cv::Mat& im
     log::warn("%s: skipped: not solved: %s", file.c_str(), r.result.reason.c_str());
     return std::nullopt;
   }
+  log::debug("%s: identified %zu of its %zu stars (%s), false-match probability %.2g", file.c_str(),
+             r.result.matches.size(), det.stars.size(), r.result.algorithm.c_str(),
+             r.result.false_match_probability);
   // The calibration weighs each star by its own centroid sigma, not by this frame's
   // model-error term (that is what the calibration removes).
   const auto obs = toStarObservations(det.stars, r.camera, kFloorPx);
@@ -187,21 +202,48 @@ int runCalibrate(const CalibrateOptions& o) {
   inputs.push_back({o.database, "--database"});
   refuseSameFile(o.output, "-o", inputs);
   prepareOutputFile(o.output, "-o");
-  imageio::LoadedImage first = imageio::loadImage(files.front());
-  const double epoch = o.epoch > 0 ? o.epoch : first.epoch_jyear.value_or(2025.0);
+  // An unreadable frame is skipped with a warning, as solve does in a batch (issue 39: one
+  // damaged file ended the whole calibration); the first readable one sets the size.
+  std::vector<std::string> unreadable;
+  const auto load = [&](const std::string& f) -> std::optional<imageio::LoadedImage> {
+    try {
+      return imageio::loadImage(f);
+    } catch (const InputError& e) {
+      log::warn("%s; skipped", e.what());
+      unreadable.push_back(f);
+      return std::nullopt;
+    }
+  };
+  std::optional<imageio::LoadedImage> first_loaded;
+  std::size_t first_index = 0;
+  for (; first_index < files.size() && !first_loaded; ++first_index) first_loaded = load(files[first_index]);
+  if (!first_loaded) throw InputError("no readable frame among the " + std::to_string(files.size()) + " given");
+  const imageio::LoadedImage first = std::move(*first_loaded);
+  const std::string first_file = files[first_index - 1];
+  // As solve: --epoch, else the first frame's date, else today (solve/solve_epoch.hpp).
+  const solve::SolveEpoch chosen =
+      solve::chooseEpoch(o.epoch, first.epoch_jyear, first.epoch_source, nullptr);
+  const double epoch = chosen.jyear;
   if (o.epoch <= 0)
-    log::info("epoch %.2f (%s)", epoch, first.epoch_jyear ? first.epoch_source.c_str() : "no date in the first frame: 2025.0; give --epoch");
+    log::info("epoch %.2f (%s%s)", epoch, chosen.source.c_str(),
+              first.epoch_jyear ? "" : ": no date in the first frame; give --epoch");
   const std::shared_ptr<const StarDatabase> db_held = database(o, first.image.cols, first.image.rows, epoch);
   const StarDatabase& db = *db_held;
   auto identifier = StarIdentifier::create(StarIdentifier::defaultName());
   std::vector<SolvedFrame> solved;
   std::optional<CameraModel> known;
   ProgressBar bar("solving", files.size());
-  for (const std::string& f : files) {
-    const imageio::LoadedImage img = f == files.front() ? first : imageio::loadImage(f);
+  for (std::size_t k = first_index - 1; k < files.size(); ++k) {
+    const std::string& f = files[k];
+    std::optional<imageio::LoadedImage> loaded = k + 1 == first_index ? first : load(f);
+    if (!loaded) {
+      bar.increment();
+      continue;
+    }
+    const imageio::LoadedImage& img = *loaded;
     if (img.image.cols != first.image.cols || img.image.rows != first.image.rows)
       throw InputError(f + ": " + std::to_string(img.image.cols) + "x" + std::to_string(img.image.rows) +
-                       " px, but " + files.front() + " is " + std::to_string(first.image.cols) + "x" +
+                       " px, but " + first_file + " is " + std::to_string(first.image.cols) + "x" +
                        std::to_string(first.image.rows) + ": one camera, one image size");
     if (auto s = solveFrame(f, img.image, db, o, known, *identifier)) {
       if (!known) known = s->camera;
@@ -222,7 +264,10 @@ int runCalibrate(const CalibrateOptions& o) {
   }
   printReport(solved, fit, modelErrorSigmaPx(fit, frames));
   fit.camera.saveYaml(o.output);
-  std::printf("wrote %s (%zu of %zu frames solved)\n", o.output.c_str(), solved.size(), files.size());
+  std::printf("wrote %s (%zu of %zu frames solved%s)\n", o.output.c_str(), solved.size(),
+              files.size(),
+              unreadable.empty() ? ""
+                                 : (", " + std::to_string(unreadable.size()) + " unreadable skipped").c_str());
   return kExitOk;
 }
 

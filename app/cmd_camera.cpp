@@ -20,7 +20,15 @@ void addCameraCommand(CLI::App& root, CommandRun& run) {
       ->expected(2);
   auto out = std::make_shared<std::string>();
   cmd->add_option("--save", *out, "Write the camera as OpenCV YAML to this file");
+  // `camera FILE` as well as `camera --camera FILE` (issue 39: the plain form was refused).
+  auto file = std::make_shared<std::string>();
+  cmd->add_option("file", *file, "Camera file (the same as --camera FILE)");
   cmd->callback([=, &run] {
+    if (!file->empty()) {
+      if (!opts->camera_file.empty())
+        throw CLI::ValidationError("camera", "give the camera file once: FILE or --camera FILE");
+      opts->camera_file = *file;
+    }
     run = [=] {
       const int w = size->size() == 2 ? (*size)[0] : 0, h = size->size() == 2 ? (*size)[1] : 0;
       if (opts->fov_deg > 0 && (w <= 0 || h <= 0))

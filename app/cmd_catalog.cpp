@@ -246,7 +246,11 @@ void addCatalogCommand(CLI::App& root, CommandRun& run) {
   build->add_option("--mag-limit", o->mag_limit,
                     "Keep stars with V <= this (capped, with a warning, at the catalog's depth)")
       ->capture_default_str();
-  build->add_option("--epoch", o->epoch, "Observation epoch, Julian year (e.g. 2019.57)")
+  build->add_option("--epoch", o->epoch,
+                    "Observation epoch, Julian year (e.g. 2019.57); the default is a fixed "
+                    "2025.0 so that one command always builds the same file (solve and "
+                    "calibrate take a frame's own date; solve says when a database's epoch "
+                    "is too far from it)")
       ->capture_default_str();
   build->add_flag("--no-aberration", o->no_aberration, "Do not apply annual aberration");
   build->add_flag("--no-parallax", o->no_parallax, "Do not apply annual parallax");

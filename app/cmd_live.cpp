@@ -221,8 +221,14 @@ class LiveSession {
     std::printf("observations: %zu delivered, %zu recorded, %zd lost\n", delivered,
                 recorder_->written(), static_cast<std::ptrdiff_t>(delivered - recorder_->written()));
     recorder_->printTrackerSummary(stdout);
-    for (const CStarTrackerSensor* t : trackers_)
-      if (const std::string c = t->cameraReport(); !c.empty()) std::printf("%s\n", c.c_str());
+    // One line per head, named when there are several (issue 39: two unnamed "camera:" lines).
+    for (const CStarTrackerSensor* t : trackers_) {
+      std::string c = t->cameraReport();
+      if (c.empty()) continue;
+      if (trackers_.size() > 1 && c.rfind("camera:", 0) == 0)
+        c = "camera " + t->getSensorLabel() + ":" + c.substr(7);
+      std::printf("%s\n", c.c_str());
+    }
     if (!nav_) return;
     const auto s = nav_->stats();
     std::printf("filter: %d fixes (%d accepted, %d rejected, %d ignored while waiting for "

@@ -282,6 +282,12 @@ int runReplay(const ReplayOpts& o) {
       writer->write(*st);
       ++star_tracker_written;
     }
+    // -v: every frame's outcome as it happens (issue 39: -v added nothing outside montecarlo).
+    if (s.has_frame)
+      log::debug("t = %.3f s: %s, %d stars matched%s%s%s", s.t, toString(s.mode), s.stars_matched,
+                 s.failure != FrameFailure::kNone ? ", failed: " : "",
+                 s.failure != FrameFailure::kNone ? toString(s.failure) : "",
+                 s.reason.empty() ? "" : ("; " + s.reason).c_str());
     report.push(s);
   });
 

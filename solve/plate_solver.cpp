@@ -45,6 +45,7 @@ struct DatabaseChoice {
   std::string source;
   SolveEpoch epoch;
   double ms = 0;
+  bool before_frame = false;  ///< loaded before the frame's clock started (--database)
 };
 
 /// What solveFile chose from an image's header while the pixels were being decoded.
@@ -187,7 +188,10 @@ DatabaseChoice PlateSolver::database(const SolveOptions& o, const CameraSearch& 
   if (given_db_) {
     dbc.db = given_db_;
     dbc.source = given_source_;
-    dbc.ms = given_ms_;
+    // Loaded before the frame's clock started: counted once, and added to that frame's total
+    // (issue 39: "total" was smaller than its "database" part).
+    dbc.ms = given_counted_->exchange(true) ? 0.0 : given_ms_;
+    dbc.before_frame = true;
     dbc.epoch = chooseEpoch(o.epoch, epoch_jyear, epoch_source,
                             given_from_file_ ? dbc.db.get() : nullptr);
     if (given_from_file_) requireDatabaseEpoch(*dbc.db, given_source_, dbc.epoch);
@@ -253,7 +257,7 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveInput(FrameInput in, const std::
     changeFrame(rep.ps.search.result, db, databaseFrame(db.params()), db.params().epoch_jyear,
                 frame_, dbc.epoch.jyear);
   rep.ms.identify = msSince(t0);
-  rep.ms.total = msSince(t_start);
+  rep.ms.total = msSince(t_start) + (dbc.before_frame ? dbc.ms : 0.0);
   if (rep.failure.empty() && !rep.ps.search.result.solved()) rep.failure = rep.ps.search.result.reason;
   f->code = rep.failure.empty() ? kSolved : kNotSolved;
   f->ms = rep.ms.total;

@@ -11,6 +11,7 @@
 ///   std::cout << outcomeJson(*f).dump();
 #pragma once
 #include <chrono>
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -80,6 +81,8 @@ class PlateSolver {
   std::string given_source_;
   bool given_from_file_ = false;
   double given_ms_ = 0;
+  /// The --database load is counted in the first frame's timing only (a batch pays it once).
+  std::shared_ptr<std::atomic<bool>> given_counted_ = std::make_shared<std::atomic<bool>>(false);
   CelestialFrame frame_;  ///< the frame asked for
   double pixel_aspect_ = 1;  ///< the camera's fx / fy, for detection
 };

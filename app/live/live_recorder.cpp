@@ -65,6 +65,8 @@ void LiveRecorder::write(const mrpt::obs::CObservation::Ptr& o) {
   ++per_label_[o->sensorLabel];
   if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o)) {
     ++frames_;
+    ++head_frames_[f->sensorLabel];
+    frame_times_.insert(f->timestamp.time_since_epoch().count());
     if (f->hasAttitude()) ++solved_;
     if (f->mode == StarTrackerMode::kTracking) ++tracking_;
     if (f->mode == StarTrackerMode::kLostInSpace) ++lis_;
@@ -105,6 +107,15 @@ void LiveRecorder::printTrackerSummary(std::FILE* out) const {
                reacquired_);
   for (const auto& [failure, n] : failures_)
     std::fprintf(out, "  failed %d x: %s\n", n, toString(failure));
+  // Several heads: the frames above are the heads' together; replay's "frames" are the times
+  // (issue 39: 24 here against replay's 12, unexplained).
+  if (head_frames_.size() > 1) {
+    std::string heads;
+    for (const auto& [label, n] : head_frames_)
+      heads += (heads.empty() ? "" : ", ") + label + " " + std::to_string(n);
+    std::fprintf(out, "  %zu heads (%s frames) at %zu frame times, which replay counts as frames\n",
+                 head_frames_.size(), heads.c_str(), frame_times_.size());
+  }
 }
 
 }  // namespace st::app

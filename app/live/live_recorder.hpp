@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,8 @@ class LiveRecorder {
   std::map<FrameFailure, int> failures_;
   int frames_ = 0, solved_ = 0, tracking_ = 0, lis_ = 0, reacquired_ = 0, image_no_ = 0;
   std::size_t written_ = 0, markers_ = 0;
+  std::map<std::string, int> head_frames_;  ///< STAR_TRACKER observations per label (head)
+  std::set<int64_t> frame_times_;           ///< their distinct timestamps
 };
 
 }  // namespace st::app
