@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
+#include <new>
+
 #include "app/cli/common_flags.hpp"
 #include "app/cli/json_error.hpp"
 #include "app/cli/parse_errors.hpp"
@@ -41,6 +45,17 @@ int runCommandLine(int argc, char** argv, AddCommands add_commands) {
     return run ? run() : kExitUsage;
   } catch (const st::InputError& e) {
     return cli::reportFailure(e.what(), kExitUsage, json);
+  } catch (const std::bad_alloc&) {
+    // Sizes read from files and flags are bounded (issue 39); what is left is the machine's.
+    return cli::reportFailure(
+        "out of memory: this machine could not give the memory the run needs (free memory, or "
+        "split the work: fewer frames per run, a smaller image or catalog)",
+        kExitFailure, json);
+  } catch (const cv::Exception& e) {
+    // OpenCV's own text names its source file and line: the user needs what failed.
+    return cli::reportFailure("image processing (OpenCV) failed: " + e.err +
+                                  (e.func.empty() ? "" : " in " + e.func),
+                              kExitFailure, json);
   } catch (const std::exception& e) {
     return cli::reportFailure(e.what(), kExitFailure, json);
   }

@@ -208,7 +208,7 @@ int runReplay(const ReplayOpts& o) {
   // stopped; --strict makes that an error. A file with no readable object stays one.
   RawlogDamage damage;
   std::optional<CameraModel> camera = cfg.camera;
-  std::optional<mrpt::Clock::time_point> t_first;
+  std::optional<mrpt::Clock::time_point> t_first, t_last;
   bool has_gyro = false, recording_start = false, recording_end = false;
   ExternalImages images;
   const std::size_t n_obs = visitRawlogUpToDamage(
@@ -217,6 +217,7 @@ int runReplay(const ReplayOpts& o) {
         const bool marker = isRecordingMarker(*ob, kRecordingStartLabel) ||
                             isRecordingMarker(*ob, kRecordingEndLabel);
         if (!t_first && !marker) t_first = ob->timestamp;
+        if (!marker) t_last = ob->timestamp;
         recording_start = recording_start || isRecordingMarker(*ob, kRecordingStartLabel);
         recording_end = recording_end || isRecordingMarker(*ob, kRecordingEndLabel);
         has_gyro = has_gyro || isGyroObservation(*ob, cfg.nav);
@@ -228,13 +229,18 @@ int runReplay(const ReplayOpts& o) {
       &damage);
   if (damage.damaged) {
     if (o.strict) throw InputError(damage.message + " (--strict)");
-    log::warn("%s; replaying those (--strict makes this an error)", damage.message.c_str());
+    // How much is kept, in objects and seconds: what came after the damage is lost.
+    log::warn("%s; replaying the %zu observations before it (%.1f s of recording; what followed "
+              "is lost; --strict makes this an error)",
+              damage.message.c_str(), damage.object,
+              t_first && t_last ? mrpt::system::timeDifference(*t_first, *t_last) : 0.0);
   }
   if (n_obs == 0) throw InputError(o.rawlog + ": no observations");
   if (recording_start && !recording_end && !damage.damaged)
     log::warn("%s: the recording was cut: it has no %s marker (the live run that wrote it was "
-              "killed or lost power); replaying its %zu observations",
-              o.rawlog.c_str(), kRecordingEndLabel, n_obs);
+              "killed or lost power); replaying its %zu observations (%.1f s)",
+              o.rawlog.c_str(), kRecordingEndLabel, n_obs,
+              t_first && t_last ? mrpt::system::timeDifference(*t_first, *t_last) : 0.0);
   if (!camera) {
     throw InputError(o.rawlog + ": no " + cfg.nav.camera_label +
                      " (CObservationImage) observation: nothing to replay");

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/errors.hpp"
+#include "config/ini_value.hpp"
 
 namespace st {
 
@@ -12,20 +13,6 @@ namespace {
 
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-/// "a, b , c" -> {"a", "b", "c"}
-std::vector<std::string> commaList(const std::string& v) {
-  std::vector<std::string> out;
-  std::size_t pos = 0;
-  while (pos <= v.size()) {
-    const std::size_t end = std::min(v.find(',', pos), v.size());
-    const std::string item = v.substr(pos, end - pos);
-    const auto a = item.find_first_not_of(" \t");
-    if (a != std::string::npos) out.push_back(item.substr(a, item.find_last_not_of(" \t") + 1 - a));
-    pos = end + 1;
-  }
-  return out;
 }
 
 }  // namespace
@@ -55,7 +42,7 @@ std::set<std::string> liveIniSections(const IniReader& r) {
     r.cfg.getAllKeys(s, keys);
     for (const auto& k : keys)
       if (endsWith(k, "_section") || endsWith(k, "_sections"))
-        for (const auto& named : commaList(r.cfg.read_string(s, k, "", false))) out.insert(named);
+        for (const auto& named : splitIniList(r.cfg.read_string(s, k, "", false))) out.insert(named);
   }
   return out;
 }

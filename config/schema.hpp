@@ -81,15 +81,16 @@ class SectionSchema {
   SectionSchema& range(double lo, double hi) {
     Key& k = keys_.back();
     if (!k.number) throw std::logic_error("range() on the non-numeric key " + k.name);
-    const std::string span = "[" + IniCodec<double>::write(lo) + ", " + IniCodec<double>::write(hi) + "]";
-    k.help += " " + span;
+    // No brackets: MRPT cuts a sensor's error message at its first ']' (IniReader::mrpt_safe).
+    const std::string span = "from " + IniCodec<double>::write(lo) + " to " + IniCodec<double>::write(hi);
+    k.help += " (" + span + ")";
     k.read = [plain = k.read, number = k.number, key = k.name, lo, hi, span](
                  const IniReader& r, const std::string& s, T& t) {
       plain(r, s, t);
       const double v = number(t);
       if (!(v >= lo && v <= hi))
         throw InputError(r.whereKey(s, key) + " = " + IniCodec<double>::write(v) +
-                         ": must be in " + span);
+                         ": must be " + span);
     };
     return *this;
   }

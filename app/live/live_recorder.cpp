@@ -66,6 +66,11 @@ void LiveRecorder::write(const mrpt::obs::CObservation::Ptr& o) {
   if (auto f = std::dynamic_pointer_cast<CObservationStarTracker>(o)) {
     ++frames_;
     ++head_frames_[f->sensorLabel];
+    // -v: each frame's outcome as it is recorded (issue 39: -v said nothing outside montecarlo).
+    log::debug("%s: %s, %zu stars matched%s%s%s", f->sensorLabel.c_str(), toString(f->mode),
+               f->stars.size(), f->failure != FrameFailure::kNone ? ", failed: " : "",
+               f->failure != FrameFailure::kNone ? toString(f->failure) : "",
+               f->reason.empty() ? "" : ("; " + f->reason).c_str());
     frame_times_.insert(f->timestamp.time_since_epoch().count());
     if (f->hasAttitude()) ++solved_;
     if (f->mode == StarTrackerMode::kTracking) ++tracking_;

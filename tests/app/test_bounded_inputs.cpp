@@ -20,17 +20,10 @@
 namespace st {
 namespace {
 
-std::string textOf(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 /// rawlogs/`file` with the regex `from` replaced by `to`, written to dir/name.
 std::string edited(const std::string& dir, const std::string& file, const std::string& from,
                    const std::string& to, const std::string& name = "edited.ini") {
-  const std::string s = textOf(test::repoDir() + "/rawlogs/" + file);
+  const std::string s = test::fileBytes(test::repoDir() + "/rawlogs/" + file);
   const std::string out = std::regex_replace(s, std::regex(from), to);
   EXPECT_NE(out, s) << from << " not in " << file;
   std::ofstream(dir + "/" + name) << out;
@@ -57,20 +50,20 @@ TEST(BoundedInputs, CentroidSigmaFloorHasARange) {
 TEST(BoundedInputs, GyroAndFilterValuesHaveRanges) {
   const std::string dir = test::makeTempDir("bounded_ini");
   expectRefused("config " + edited(dir, "hold.ini", "\nrate_hz\\s*=\\s*[0-9.]+", "\nrate_hz = 2147483647"),
-                dir, "[gyro] key 'rate_hz' = 2147483647: must be in [0.01, 10000]");
+                dir, "[gyro] key 'rate_hz' = 2147483647: must be from 0.01 to 10000");
   expectRefused("config " + edited(dir, "hold.ini", "\ninitial_bias_deg_h\\s*=[^\n]*", "\ninitial_bias_deg_h = inf 0 0"),
                 dir, "'inf' is not a number");
   expectRefused("config " + edited(dir, "hold.ini", "\nbias_deg_h\\s*=[^\n]*", "\nbias_deg_h = 1e308"), dir,
-                "key 'bias_deg_h' = 1e+308: must be in");
+                "key 'bias_deg_h' = 1e+308: must be from");
   expectRefused("config " + edited(dir, "tracker.ini", "\narw_deg_rt_h\\s*=[^\n]*", "\narw_deg_rt_h = 3.4e38"),
-                dir, "key 'arw_deg_rt_h' = 3.4e+38: must be in [0, 100]");
+                dir, "key 'arw_deg_rt_h' = 3.4e+38: must be from 0 to 100");
   expectRefused("config " + edited(dir, "hold.ini", "frame_rate_hz\\s*=\\s*[0-9.]+", "frame_rate_hz = 1e6"),
-                dir, "key 'frame_rate_hz' = 1e+06: must be in");
+                dir, "key 'frame_rate_hz' = 1e+06: must be from");
 }
 
 TEST(BoundedInputs, CameraFilesAreTypedAndBounded) {
   const std::string dir = test::makeTempDir("bounded_camera");
-  std::string yaml = textOf(test::repoDir() + "/docs/inflight/swarm_stra_calibrated.yaml");
+  std::string yaml = test::fileBytes(test::repoDir() + "/docs/inflight/swarm_stra_calibrated.yaml");
   yaml = std::regex_replace(yaml, std::regex("image_width: 752"), "image_width: \"wide\"");
   std::ofstream(dir + "/wide.yaml") << yaml;
   expectRefused("camera --camera wide.yaml", dir, "wide.yaml: key 'image_width' = 'wide': not a number");
@@ -98,6 +91,29 @@ TEST(BoundedInputs, DamagedOrAbsurdInputIsSaidNotPassedOn) {
   // A folder given as a database (was: "basic_string::_M_create").
   std::filesystem::create_directory(dir + "/folder");
   expectRefused("catalog info folder", dir, "folder: cannot read star database (not a regular file)");
+}
+
+/// Runs `args` under a 6 GB address-space limit and a 120 s time limit: the run must end by
+/// itself with an answer (0, 1 or 2), not be killed (124, 137) or crash.
+int boundedRun(const std::string& args, const std::string& dir) {
+  const test::CliRun r = test::runCli(args, dir, "ulimit -v 6000000; timeout 120 ");
+  EXPECT_TRUE(r.code == 0 || r.code == 1 || r.code == 2) << args << " exit " << r.code << "\n" << r.err;
+  return r.code;
+}
+
+TEST(BoundedInputs, TheLargestAcceptedValuesEndWithinBoundedMemoryAndTime) {
+  const std::string dir = test::makeTempDir("bounded_extremes");
+  const std::string frame = "'" + test::tetra3Frames().front() + "'";
+  // The widest centroid floor, with and without a CPU limit.
+  boundedRun("solve " + frame + " --fov-deg 11.4 --min-sigma-px 2", dir);
+  boundedRun("solve " + frame + " --fov-deg 11.4 --min-sigma-px 2 --cpulimit 1", dir);
+  // The fastest gyro over a short run.
+  boundedRun("simulate " + edited(dir, "hold.ini", "\nrate_hz\\s*=\\s*[0-9.]+", "\nrate_hz = 10000",
+                                  "fast_gyro.ini") +
+                 " -o g.rawlog --frames 2",
+             dir);
+  // A wide FOV search stopped by --cpulimit.
+  boundedRun("solve " + frame + " --fov-range 1 60 --cpulimit 5", dir);
 }
 
 TEST(BoundedInputs, NoProgressBarsInARedirectedStderr) {

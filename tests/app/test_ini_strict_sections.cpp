@@ -15,17 +15,10 @@
 namespace st {
 namespace {
 
-std::string textOf(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 /// `file` of the repository's rawlogs/ with its first `from` replaced by `to`, as dir/name.
 std::string edited(const std::string& dir, const std::string& file, const std::string& from,
                    const std::string& to, const std::string& name) {
-  std::string s = textOf(test::repoDir() + "/rawlogs/" + file);
+  std::string s = test::fileBytes(test::repoDir() + "/rawlogs/" + file);
   const auto at = s.find(from);
   EXPECT_NE(at, std::string::npos) << from << " not in " << file;
   if (at != std::string::npos) s.replace(at, from.size(), to);
@@ -90,7 +83,7 @@ TEST(IniStrictSections, AKeyWrittenTwiceIsRefusedNamingTheLine) {
 
 TEST(IniStrictSections, MontecarloRunFileKnowsOneSection) {
   const std::string dir = test::makeTempDir("ini_mc_section");
-  std::ofstream(dir + "/r.txt") << textOf(test::repoDir() +
+  std::ofstream(dir + "/r.txt") << test::fileBytes(test::repoDir() +
                                           "/docs/montecarlo/centroid-defocus/centroid-defocus_run.txt")
                                 << "\n[montecarlo_rn]\nruns = 3\n";
   expectUsageError(test::runCli("config r.txt", dir),

@@ -21,13 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string bytesOf(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 std::string liveIni() { return test::repoDir() + "/rawlogs/live_sim.ini"; }
 
 /// A short live recording `dir/name` (simulated sensors, 10 Hz frames).
@@ -49,17 +42,17 @@ std::vector<std::string> partialFiles(const std::string& dir) {
 TEST(RecordingEdges, LiveOverAnEarlierRecordingIsRefusedUnlessForced) {
   const std::string dir = test::makeTempDir("live_over");
   record(dir, "a.rawlog", 1.5);
-  const std::string before = bytesOf(dir + "/a.rawlog");
+  const std::string before = test::fileBytes(dir + "/a.rawlog");
   const test::CliRun again =
       test::runCli("live '" + liveIni() + "' -o '" + dir + "/a.rawlog' --duration 1", dir);
   EXPECT_EQ(again.code, 2) << again.err;
   EXPECT_THAT(again.err, ::testing::HasSubstr("a.rawlog"));
   EXPECT_THAT(again.err, ::testing::HasSubstr("--force"));
-  EXPECT_EQ(bytesOf(dir + "/a.rawlog"), before) << "the earlier recording was changed";
+  EXPECT_EQ(test::fileBytes(dir + "/a.rawlog"), before) << "the earlier recording was changed";
   const test::CliRun forced =
       test::runCli("live '" + liveIni() + "' -o '" + dir + "/a.rawlog' --duration 1 -f", dir);
   EXPECT_EQ(forced.code, 0) << forced.err;
-  EXPECT_NE(bytesOf(dir + "/a.rawlog"), before);
+  EXPECT_NE(test::fileBytes(dir + "/a.rawlog"), before);
 }
 
 TEST(RecordingEdges, LiveRefusedOnItsIniLeavesNoRecording) {
@@ -136,7 +129,7 @@ TEST(RecordingEdges, CtrlCStopsReplayWithItsSummaryAndCompleteOutputs) {
   EXPECT_FALSE(damage.damaged) << damage.message;
   EXPECT_GT(out.size(), 2u);
   EXPECT_LT(out.size(), readRawlog(dir + "/a.rawlog").size());
-  const std::string csv = bytesOf(dir + "/c.csv");
+  const std::string csv = test::fileBytes(dir + "/c.csv");
   ASSERT_FALSE(csv.empty());
   EXPECT_EQ(csv.back(), '\n');
   EXPECT_TRUE(partialFiles(dir).empty()) << partialFiles(dir).front();

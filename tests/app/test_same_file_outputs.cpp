@@ -17,23 +17,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string bytesOf(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 /// Runs `args` in `dir`; expects exit 2 naming `flag` and "same file", and `kept` unchanged.
 void expectRefused(const std::string& args, const std::string& dir, const std::string& flag,
                    const std::string& kept) {
-  const std::string before = bytesOf(kept);
+  const std::string before = test::fileBytes(kept);
   ASSERT_FALSE(before.empty()) << kept;
   const test::CliRun r = test::runCli(args, dir);
   EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
   EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
   EXPECT_NE(r.err.find("same file"), std::string::npos) << args << "\n" << r.err;
-  EXPECT_EQ(bytesOf(kept), before) << args << ": " << kept << " was changed";
+  EXPECT_EQ(test::fileBytes(kept), before) << args << ": " << kept << " was changed";
 }
 
 TEST(SameFileOutputs, SolveAnnotateOrWcsOverAnInputOrEachOtherIsRefused) {
