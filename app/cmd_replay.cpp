@@ -230,8 +230,8 @@ int runReplay(const ReplayOpts& o) {
   if (damage.damaged) {
     if (o.strict) throw InputError(damage.message + " (--strict)");
     // How much is kept, in objects and seconds: what came after the damage is lost.
-    log::warn("%s; replaying the %zu observations before it (%.1f s of recording; what followed "
-              "is lost; --strict makes this an error)",
+    log::warn("%s; replaying them (%zu observations, %.1f s of recording; what followed is "
+              "lost; --strict makes this an error)",
               damage.message.c_str(), damage.object,
               t_first && t_last ? mrpt::system::timeDifference(*t_first, *t_last) : 0.0);
   }

@@ -169,6 +169,12 @@ mrpt::obs::CObservation::Ptr RawlogReader::next() {
     std::string first = m == std::string::npos ? msg : msg.substr(m + 8);
     first = first.substr(first.find_first_not_of(' '));
     first = first.substr(0, first.find('\n'));
+    // MRPT's "Exception while parsing typed object 'X' from ... for file ...": in words.
+    if (first.rfind("Exception while parsing typed object '", 0) == 0) {
+      const std::size_t q0 = first.find('\''), q1 = first.find('\'', q0 + 1);
+      if (q1 != std::string::npos)
+        first = "a " + first.substr(q0 + 1, q1 - q0 - 1) + " object cut short or damaged";
+    }
     // "Stored object has class 'X' which is not registered": an unknown class only when X
     // looks like a C++ name; otherwise the bytes where a class name belongs are damaged.
     bool unknown_class = msg.find("not registered") != std::string::npos;
