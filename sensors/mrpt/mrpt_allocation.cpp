@@ -30,7 +30,7 @@ struct Budget {
 };
 thread_local Budget t_budget;
 
-void* counted(std::size_t size, std::size_t alignment) {
+[[maybe_unused]] void* counted(std::size_t size, std::size_t alignment) {
   if (t_budget.active) {
     if (size > t_budget.left) throw std::bad_alloc();
     t_budget.left -= size;
@@ -67,7 +67,11 @@ ReadAllocationBudget::~ReadAllocationBudget() { t_budget.active = false; }
 
 // The program's operator new (the replaceable global allocation functions): malloc as
 // libstdc++'s own, freed by its operator delete (free), plus the budget above. Defined in this
-// file, which every program reading rawlogs links (mrptAllocationsThrow).
+// file, which every program reading rawlogs links (mrptAllocationsThrow). Not in sanitizer
+// builds: ASan and TSan bring their own operator new (and ASan would see our malloc freed by
+// its operator delete as a mismatch); there the fuzzers' allocation limits stand in.
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+bool st::rawlogReadBudgetEnforced() { return true; }
 void* operator new(std::size_t size) { return st::counted(size, 0); }
 void* operator new[](std::size_t size) { return st::counted(size, 0); }
 void* operator new(std::size_t size, std::align_val_t al) {
@@ -76,3 +80,6 @@ void* operator new(std::size_t size, std::align_val_t al) {
 void* operator new[](std::size_t size, std::align_val_t al) {
   return st::counted(size, static_cast<std::size_t>(al));
 }
+#else
+bool st::rawlogReadBudgetEnforced() { return false; }
+#endif

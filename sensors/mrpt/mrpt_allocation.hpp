@@ -29,6 +29,9 @@ std::size_t rawlogReadBudget(std::uint64_t file_bytes);
 /// 1 GiB: no object a star tracker records is larger (an inline 2^28-pixel 16-bit image is 512 MB).
 constexpr std::size_t kMaxRawlogObjectBytes = std::size_t(1) << 30;
 
+/// False in sanitizer builds, whose own operator new is kept (mrpt_allocation.cpp).
+bool rawlogReadBudgetEnforced();
+
 /// While alive, the calling thread's operator new allocations are summed and fail once the sum
 /// passes `bytes`. Not nested.
 class ReadAllocationBudget {
