@@ -31,14 +31,8 @@ std::vector<std::string> sectionsWhere(const IniReader& r, const std::string& wa
 std::vector<std::string> scenarioSections(const IniReader& r, const std::string&) {
   if (!r.cfg.sectionExists("scenario")) return {};
   std::vector<std::string> out = {"scenario"};
-  const ScenarioKeys defaults;
-  for (const auto& [key, def] :
-       {std::pair{"camera_section", defaults.camera_section}, {"sensor_section", defaults.sensor_section},
-        {"motion_section", defaults.motion_section}, {"gyro_section", defaults.gyro_section},
-        {"faults_section", defaults.faults_section}}) {
-    const std::string sec = r.str("scenario", key, def);
-    if (r.cfg.sectionExists(sec)) out.push_back(sec);
-  }
+  for (const std::string& sec : scenarioSectionNames(r))
+    if (sec != "scenario" && r.cfg.sectionExists(sec)) out.push_back(sec);
   return out;
 }
 
