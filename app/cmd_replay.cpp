@@ -188,6 +188,10 @@ std::string recordedTrackerConfig(const std::string& rawlog) {
 }
 
 int runReplay(const ReplayOpts& o) {
+  // Ctrl-C / SIGTERM stop between observations: what was replayed is flushed and summed up.
+  // Caught from the start, so that one during the scan or the database build stops the run
+  // before its first observation (a second one kills).
+  installStopSignals();
   if (!fs::is_regular_file(o.rawlog)) throw InputError(o.rawlog + ": rawlog not found");
   TrackerConfig cfg;
   if (!o.config.empty()) {
@@ -299,8 +303,6 @@ int runReplay(const ReplayOpts& o) {
 
   ProgressBar bar("replay", n_obs, true);  // silent under -q (common/progress)
   const auto wall0 = std::chrono::steady_clock::now();
-  // Ctrl-C / SIGTERM stop between observations: what was replayed is flushed and summed up.
-  installStopSignals();
   std::size_t n_done = 0;
   // The scan's observations again: exactly those (the damage, if any, comes after them).
   RawlogReader reader(o.rawlog);

@@ -114,10 +114,11 @@ TEST(RecordingEdges, ReplayOfALiveRecordingWritesEachFixOnce) {
 
 TEST(RecordingEdges, CtrlCStopsReplayWithItsSummaryAndCompleteOutputs) {
   const std::string dir = test::makeTempDir("replay_sigint");
-  record(dir, "a.rawlog", 4);
-  // --realtime: four seconds of recording take four seconds; SIGINT comes after 1.5.
+  record(dir, "a.rawlog", 6);
+  // --realtime: six seconds of recording take six seconds; SIGINT comes after 3 (room for a
+  // slow machine's start-up).
   const test::CliRun r = test::runCli("replay a.rawlog --realtime -o b.rawlog --csv c.csv", dir,
-                                      "timeout --preserve-status -s INT 1.5 ");
+                                      "timeout --preserve-status -s INT 3 ");
   EXPECT_EQ(r.code, 130) << r.out << r.err;
   EXPECT_THAT(r.out, ::testing::HasSubstr("interrupted by SIGINT after"));
   EXPECT_THAT(r.out, ::testing::HasSubstr("frames: "));
