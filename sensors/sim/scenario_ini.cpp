@@ -87,23 +87,25 @@ void checkNamedSection(const IniReader& r, const char* key, const std::string& s
 
 }  // namespace
 
-std::set<std::string> scenarioSectionNames(const IniReader& r) {
-  const std::string S = "scenario";
-  const ScenarioKeys d;
-  std::set<std::string> out = {S};
-  for (const auto& [key, def] :
-       {std::pair{"camera_section", d.camera_section}, {"sensor_section", d.sensor_section},
-        {"motion_section", d.motion_section}, {"gyro_section", d.gyro_section},
-        {"faults_section", d.faults_section}, {"orbit_section", d.orbit_section}})
-    out.insert(r.str(S, key, def));
-  ScenarioKeys k;
-  scenarioKeysSchema().read(r, S, k);
+namespace {
+/// [scenario] and the sections its keys `k` name, heads and their faults included.
+std::set<std::string> sectionsNamedBy(const IniReader& r, const ScenarioKeys& k) {
+  std::set<std::string> out = {"scenario",        k.camera_section, k.sensor_section,
+                               k.motion_section,  k.gyro_section,   k.faults_section,
+                               k.orbit_section};
   for (const std::string& head : k.head_sections) {
     out.insert(head);
     const std::string faults = r.str(head, "faults_section", "");
     if (!faults.empty()) out.insert(faults);
   }
   return out;
+}
+}  // namespace
+
+std::set<std::string> scenarioSectionNames(const IniReader& r) {
+  ScenarioKeys k;
+  scenarioKeysSchema().read(r, "scenario", k);
+  return sectionsNamedBy(r, k);
 }
 
 ScenarioIni readScenarioIni(const IniReader& r) {
@@ -170,7 +172,7 @@ ScenarioIni readScenarioIni(const IniReader& r) {
     sc.heads.push_back(h);
   }
   // Last: a section the file names but lacks is reported as such above, by its key.
-  std::set<std::string> sections = scenarioSectionNames(r);
+  std::set<std::string> sections = sectionsNamedBy(r, k);  // keys read once, above
   if (isLiveIni(r))  // a live .ini that holds its simulated sensors' scenario
     for (const auto& s : liveIniSections(r)) sections.insert(s);
   r.onlySections(sections, "a scenario file");

@@ -45,14 +45,6 @@ inline CliRun runCli(const std::string& args, const std::string& dir = "",
   return r;
 }
 
-/// The whole file (bytes as they are; "" when it cannot be read).
-inline std::string fileBytes(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 /// True when `text` holds a run of more than `n` digits (a 309-digit double bound).
 inline bool hasLongNumber(const std::string& text, int n = 20) {
   return std::regex_search(text, std::regex("[0-9]{" + std::to_string(n + 1) + "}"));

@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "common/errors.hpp"
 #include "common/output_file.hpp"
@@ -16,13 +15,6 @@ namespace st {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string textOf(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 TEST(PendingOutput, AnUncommittedOutputLeavesTheEarlierFileAndNoTemporary) {
   const std::string dir = test::makeTempDir("pending_output");
@@ -37,7 +29,7 @@ TEST(PendingOutput, AnUncommittedOutputLeavesTheEarlierFileAndNoTemporary) {
     std::ofstream(temp) << "half a new fi";
     // ... the run fails or is interrupted here: no commit.
   }
-  EXPECT_EQ(textOf(path), "an earlier run's complete file\n");
+  EXPECT_EQ(test::fileBytes(path), "an earlier run's complete file\n");
   EXPECT_FALSE(fs::exists(temp));
 }
 
@@ -51,9 +43,9 @@ TEST(PendingOutput, ACommittedOutputReplacesTheFileWhole) {
     out.commit();
     EXPECT_FALSE(fs::exists(out.tempPath()));
   }
-  EXPECT_EQ(textOf(path), "new\n");
+  EXPECT_EQ(test::fileBytes(path), "new\n");
   writeFileAtomically(path, std::string("third\n"));
-  EXPECT_EQ(textOf(path), "third\n");
+  EXPECT_EQ(test::fileBytes(path), "third\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
 

@@ -1,3 +1,5 @@
+#include <sstream>
+#include <fstream>
 #include <algorithm>
 #include "tests/support/test_paths.hpp"
 
@@ -59,6 +61,13 @@ int runCommand(const std::string& cmd, std::string* output) {
   const int status = pclose(pipe);
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
 }
 
 }  // namespace st::test

@@ -32,4 +32,7 @@ std::string startrackerExe();
 /// Runs a shell command, returns its exit code; stdout+stderr go to `output`.
 int runCommand(const std::string& cmd, std::string* output = nullptr);
 
+/// The whole file (bytes as they are; "" when it cannot be read).
+std::string fileBytes(const std::string& path);
+
 }  // namespace st::test
