@@ -1,6 +1,8 @@
 // `startracker solve`: its flags (CLI11) into the plate solver's options (solve/), the batch
 // run in app/solve/solve_batch.cpp.
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
@@ -12,6 +14,7 @@
 namespace st::app {
 
 int runSolve(const solve::SolveOptions& o);
+int runSolveMerge(const solve::SolveOptions& o, const std::vector<std::string>& other_flags);
 
 namespace {
 void addSearchOptions(CLI::App& cmd, solve::SolveOptions& o) {
@@ -32,6 +35,25 @@ void addSearchOptions(CLI::App& cmd, solve::SolveOptions& o) {
   cmd.add_option("--height", o.height, "Image height [px] of a star list")
       ->check(CLI::Range(1, 1000000));
 }
+
+/// A batch at scale: a file list, one shard of it, results that survive a kill.
+void addBatchOptions(CLI::App& cmd, solve::SolveOptions& o) {
+  cmd.add_option("--files-from", o.files_from,
+                 "A text file listing frames, one path per line ('#' comments; '-': standard "
+                 "input), solved after the IMAGE arguments");
+  cmd.add_option("--shard", o.shard,
+                 "i/N: solve frames i, i + N, i + 2N, ... of the list (0 <= i < N), one part of "
+                 "a split run (e.g. $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)");
+  cmd.add_option("-o,--output", o.output,
+                 "JSON Lines results file: one line per frame (the --json object), appended as "
+                 "each frame finishes, so a killed run keeps what it did. With it the exit code "
+                 "is the run's: 0 when every frame has its line, solved or not. An existing "
+                 "file is refused unless --resume. `solve merge PART... -o OUT [--files-from "
+                 "LIST]` joins the parts of a sharded run, in the list's order");
+  cmd.add_flag("--resume", o.resume,
+               "Continue the -o file of an interrupted run: frames with a line there are "
+               "skipped, a last line cut by the interruption is solved again");
+}
 }  // namespace
 
 void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
@@ -42,8 +64,8 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
                   "PNG, JPEG, TIFF (8/16-bit) or FITS image; or a star list instead of an "
                   "image: CSV with a header line and columns x,y[,flux] (pixels, 0-based), or "
                   "a FITS table with columns X, Y[, FLUX] (1-based, as solve-field's xylist). "
-                  "Several, and folders (their images, sorted by name), make a batch")
-      ->required();
+                  "Several, and folders (their images, sorted by name), make a batch. "
+                  "`solve merge PART...` joins the -o files of a sharded run");
   addCameraFlags(*cmd, o->camera);
   cmd->add_option("--database", o->database,
                   "Star database from `startracker catalog build` (default: build one in memory "
@@ -97,7 +119,23 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
                   "Master dark (`startracker dark`; FITS, PNG or TIFF, the images' size and "
                   "depth), subtracted before detection");
   addSearchOptions(*cmd, *o);
-  cmd->callback([o, &run_fn] { run_fn = [o] { return runSolve(*o); }; });
+  addBatchOptions(*cmd, *o);
+  cmd->callback([o, cmd, &run_fn] {
+    if (o->inputs.empty() || o->inputs.front() != "merge") {
+      run_fn = [o] { return runSolve(*o); };
+      return;
+    }
+    // `solve merge PART...`: the flags that solve frames mean nothing there; refuse them
+    // rather than let a user believe they applied.
+    std::vector<std::string> other_flags;
+    for (const CLI::Option* opt : cmd->get_options()) {
+      const std::string name = opt->get_name();
+      if (opt->count() > 0 && !opt->get_positional() && name != "--output" &&
+          name != "--files-from" && name != "--verbose" && name != "--quiet")
+        other_flags.push_back(name);
+    }
+    run_fn = [o, other_flags] { return runSolveMerge(*o, other_flags); };
+  });
 }
 
 }  // namespace st::app

@@ -6,8 +6,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <mutex>
 #include <thread>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "app/command.hpp"
@@ -21,6 +24,9 @@
 #include "common/errors.hpp"
 #include "common/log.hpp"
 #include "common/progress.hpp"
+#include "common/shard.hpp"
+#include "common/stop_signal.hpp"
+#include "solve/results_file.hpp"
 
 namespace st::app {
 namespace {
@@ -41,6 +47,14 @@ void checkBeforeWork(const SolveOptions& o, std::size_t frames) {
   refuseSameFile(o.annotate, "--annotate", inputs);
   refuseSameFile(o.wcs, "--wcs", inputs);
   refuseSameFile(o.wcs, "--wcs", {{o.annotate, "--annotate"}});
+  if (!o.output.empty()) {
+    // A results file is never an image: one named like a frame is a slip in the command.
+    if (hasImageExtension(o.output))
+      throw InputError("-o " + o.output + ": the results are JSON Lines (name it .jsonl), not an image");
+    if (!o.files_from.empty() && o.files_from != "-") inputs.push_back({o.files_from, "--files-from"});
+    refuseSameFile(o.output, "-o", inputs);
+    refuseSameFile(o.output, "-o", {{o.annotate, "--annotate"}, {o.wcs, "--wcs"}});
+  }
   if (!o.annotate.empty()) {
     if (!imageio::isPngPath(o.annotate))
       throw InputError("--annotate " + o.annotate + ": the picture is a PNG (name it .png)");
@@ -95,24 +109,94 @@ int runSingle(const SolveOptions& o, bool& printed) {
   return reportFrame(*f);
 }
 
-int runBatch(const SolveOptions& o, const std::vector<std::string>& frames) {
+/// The frames of this run: the IMAGE arguments, then --files-from's, then this --shard's part.
+struct BatchFrames {
+  std::vector<std::string> all;   ///< the whole list (every shard's)
+  std::vector<std::string> mine;  ///< this shard's part of it, in list order
+  Shard shard;
+};
+
+BatchFrames batchFrames(const SolveOptions& o) {
+  BatchFrames b;
+  if (!o.inputs.empty()) b.all = expandInputs(o.inputs);
+  if (!o.files_from.empty()) {
+    const std::vector<std::string> listed = readFileList(o.files_from);
+    b.all.insert(b.all.end(), listed.begin(), listed.end());
+  }
+  if (b.all.empty()) throw InputError("missing IMAGE: PNG, JPEG, TIFF or FITS images, star lists or folders, or --files-from LIST");
+  if (!o.shard.empty()) b.shard = Shard::parse(o.shard);
+  for (std::size_t k = 0; k < b.all.size(); ++k)
+    if (b.shard.takes(k)) b.mine.push_back(b.all[k]);
+  if (!o.output.empty()) {
+    // The results are keyed by frame: a frame listed twice would be solved once and its second
+    // place left without a line by --resume and merge.
+    std::unordered_map<std::string, std::size_t> at;
+    for (std::size_t k = 0; k < b.all.size(); ++k)
+      if (const auto [it, fresh] = at.emplace(b.all[k], k); !fresh)
+        throw InputError(b.all[k] + ": listed twice (frames " + std::to_string(it->second + 1) +
+                         " and " + std::to_string(k + 1) + "); the -o file keeps one result per frame");
+  }
+  return b;
+}
+
+/// The frames with a line in the file already (--resume). InputError when the file holds
+/// frames this run does not solve: another list or --shard wrote it.
+std::unordered_set<std::string> framesDone(const ResultsIndex& earlier, const BatchFrames& b) {
+  std::unordered_set<std::string> done, mine;
+  for (const std::string& f : b.mine) mine.insert(resultKey(f));
+  for (const ResultLine& l : earlier.lines) {
+    if (!mine.count(l.image))
+      throw InputError("--resume " + earlier.path + ": holds " + l.image + ", a frame this run " +
+                       (b.shard.whole() ? "does not list" : "(--shard " + b.shard.label() + ") does not solve") +
+                       "; resume with the list and --shard that wrote it");
+    done.insert(l.image);
+  }
+  return done;
+}
+
+int runBatch(const SolveOptions& o, const BatchFrames& batch) {
+  installStopSignals();  // SIGTERM is how Slurm ends a task at its time limit
+  std::unique_ptr<ResultsLog> results;
+  std::unordered_set<std::string> done_before;
+  if (!o.output.empty()) {
+    results = std::make_unique<ResultsLog>(o.output, o.resume);
+    done_before = framesDone(results->earlier(), batch);
+    if (results->earlier().cut_last)
+      log::info("%s: its last line was cut by the interruption; that frame is solved again",
+                o.output.c_str());
+  }
+  std::vector<std::string> frames;
+  for (const std::string& f : batch.mine)
+    if (!done_before.count(resultKey(f))) frames.push_back(f);
+  const std::string who = batch.shard.whole() ? "" : "shard " + batch.shard.label() + ": ";
+  const std::string skipped =
+      done_before.empty() ? "" : ", " + std::to_string(done_before.size()) + " with a result in " + o.output + " skipped";
+
   const PlateSolver solver(o);
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::unique_ptr<FrameOutcome>> done(frames.size());
+  std::vector<std::unique_ptr<FrameOutcome>> finished(frames.size());
   std::vector<double> ms;
   std::size_t next_print = 0;
   int solved = 0, failed = 0, errors = 0, worst = kExitOk;
+  std::string write_error;
   std::mutex mutex;
   ProgressBar bar("solve", frames.size(), ::isatty(STDERR_FILENO) != 0);
   std::atomic<std::size_t> next{0};
+  auto stopping = [&] { return stopSignal() != 0 || !write_error.empty(); };
   auto worker = [&] {
-    for (std::size_t i = next++; i < frames.size(); i = next++) {
+    for (std::size_t i = next++; i < frames.size() && !stopping(); i = next++) {
       auto f = solver.solveFileCaught(frames[i]);
       std::lock_guard<std::mutex> lock(mutex);
-      done[i] = std::move(f);
+      // Kept the moment it is solved, whatever the order: a kill loses only frames in progress.
+      if (results && write_error.empty()) try {
+          results->append(jsonLine(outcomeJson(*f)));
+        } catch (const std::exception& e) {
+          write_error = e.what();
+        }
+      finished[i] = std::move(f);
       // Print in input order: a script reading the lines can zip them with its file list.
-      for (; next_print < frames.size() && done[next_print]; ++next_print) {
-        FrameOutcome& p = *done[next_print];
+      for (; next_print < frames.size() && finished[next_print]; ++next_print) {
+        FrameOutcome& p = *finished[next_print];
         int code = p.code;
         try {
           code = reportFrame(p);
@@ -123,37 +207,84 @@ int runBatch(const SolveOptions& o, const std::vector<std::string>& frames) {
         (code == kExitOk ? solved : p.rep ? failed : errors)++;
         worst = std::max(worst, code);
         ms.push_back(p.ms);
-        done[next_print].reset();  // the frame's image is not kept past its line
+        finished[next_print].reset();  // the frame's image is not kept past its line
         bar.update(next_print + 1);
       }
     }
   };
   std::vector<std::thread> pool;
-  const int n = std::min<int>(o.threads, int(frames.size()));
+  const int n = std::max(1, std::min<int>(o.threads, int(frames.size())));
   for (int k = 1; k < n; ++k) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
   bar.finish();
   std::sort(ms.begin(), ms.end());
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  log::info("%zu frames: %d solved, %d not solved, %d errors; median %.1f ms per frame, %.2f s "
+  const std::size_t run = ms.size();
+  if (stopSignal() != 0)
+    log::warn("%sinterrupted by %s after %zu of %zu frames%s", who.c_str(), stopSignalName(), run,
+              frames.size(), results ? "; --resume continues" : "");
+  log::info("%s%zu frames%s: %d solved, %d not solved, %d errors; median %.1f ms per frame, %.2f s "
             "in all (%d thread%s)",
-            frames.size(), solved, failed, errors, ms.empty() ? 0.0 : ms[ms.size() / 2], wall, n,
-            n == 1 ? "" : "s");
-  return worst;
+            who.c_str(), run, skipped.c_str(), solved, failed, errors,
+            ms.empty() ? 0.0 : ms[ms.size() / 2], wall, n, n == 1 ? "" : "s");
+  if (!write_error.empty()) throw InputError(write_error);
+  if (stopSignal() != 0) return kExitInterrupted;
+  // With -o the results file carries each frame's outcome: the run succeeded when every frame
+  // has its line (a Slurm array's merge waits on every task's exit 0).
+  return results ? kExitOk : worst;
 }
 
 }  // namespace
+
+int runSolveMerge(const SolveOptions& o, const std::vector<std::string>& other_flags) {
+  if (!other_flags.empty())
+    throw InputError("solve merge: " + other_flags.front() +
+                     " does not apply; merge takes the parts, -o and --files-from");
+  // A folder stands for its .jsonl files (a Slurm array's parts), sorted by name.
+  std::vector<std::string> parts;
+  for (auto it = o.inputs.begin() + 1; it != o.inputs.end(); ++it) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(*it, ec)) {
+      parts.push_back(*it);
+      continue;
+    }
+    std::vector<std::string> in_dir;
+    for (const auto& e : std::filesystem::directory_iterator(*it, ec))
+      if (e.path().extension() == ".jsonl" && e.path().filename().string().rfind(".partial-", 0) != 0)
+        in_dir.push_back(e.path().string());
+    if (ec) throw InputError("solve merge: " + *it + ": cannot list the folder: " + ec.message());
+    if (in_dir.empty()) throw InputError("solve merge: " + *it + ": no .jsonl file in the folder");
+    std::sort(in_dir.begin(), in_dir.end());
+    parts.insert(parts.end(), in_dir.begin(), in_dir.end());
+  }
+  if (o.output.empty()) throw InputError("solve merge: give the merged file with -o");
+  std::vector<NamedPath> inputs;
+  for (const std::string& p : parts) inputs.push_back({p, "a part"});
+  if (!o.files_from.empty() && o.files_from != "-") inputs.push_back({o.files_from, "--files-from"});
+  refuseSameFile(o.output, "-o", inputs);
+  const std::vector<std::string> order =
+      o.files_from.empty() ? std::vector<std::string>{} : readFileList(o.files_from);
+  prepareOutputFile(o.output, "-o");
+  const std::size_t n = mergeResults(parts, order, o.output);
+  log::info("%zu frames from %zu part%s merged into %s%s", n, parts.size(),
+            parts.size() == 1 ? "" : "s", o.output.c_str(),
+            order.empty() ? " (ordered by frame name)" : ", in the list's order");
+  return kExitOk;
+}
 
 int runSolve(const SolveOptions& options) {
   bool printed = false;
   const SolveOptions& o = options;
   try {
-    if (isSingleFrame(o.inputs)) return runSingle(o, printed);
-    const std::vector<std::string> frames = expandInputs(o.inputs);
-    checkBeforeWork(o, frames.size());
+    if (o.resume && o.output.empty())
+      throw InputError("--resume continues a results file: give it with -o");
+    if (isSingleFrame(o.inputs) && o.files_from.empty() && o.shard.empty() && o.output.empty())
+      return runSingle(o, printed);
+    const BatchFrames batch = batchFrames(o);
+    checkBeforeWork(o, batch.mine.size());
     printed = true;  // from here each frame reports its own errors
-    return runBatch(o, frames);
+    return runBatch(o, batch);
   } catch (const InputError& e) {
     // With --json the one object on stdout is solve's (main would print a second one).
     if (!o.json || printed) throw;

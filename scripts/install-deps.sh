@@ -21,6 +21,9 @@ PKGS=(
   # The outside oracle for plate solving (scripts/compare_astrometry.py, ctest
   # astrometry_net_agreement): solve-field, its Tycho-2 index (scales 10-19) and astropy.
   astrometry.net astrometry-data-tycho2-10-19 python3-astropy
+  # Running at scale (README): a real single-node Slurm cluster in ctest (scripts/slurm/,
+  # tests/slurm/) and Dask's LocalCluster under the Python module (python/startracker/scale.py).
+  slurmctld slurmd slurm-client munge python3-dask python3-distributed
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
+#include <iostream>
 
 #include "common/errors.hpp"
 
@@ -39,6 +41,28 @@ std::vector<std::string> expandInputs(const std::vector<std::string>& args) {
     out.insert(out.end(), images.begin(), images.end());
   }
   return out;
+}
+
+std::vector<std::string> readFileList(const std::string& list) {
+  std::ifstream file;
+  if (list != "-") {
+    std::error_code ec;
+    if (fs::is_directory(list, ec))
+      throw InputError("--files-from " + list + ": a folder; give a text file with one frame per line");
+    file.open(list);
+    if (!file) throw InputError("--files-from " + list + ": cannot read the list");
+  }
+  std::istream& in = list == "-" ? std::cin : file;
+  std::vector<std::string> named;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto b = line.find_first_not_of(" \t\r");
+    if (b == std::string::npos || line[b] == '#') continue;
+    named.push_back(line.substr(b, line.find_last_not_of(" \t\r") + 1 - b));
+  }
+  if (in.bad()) throw InputError("--files-from " + list + ": read error");
+  if (named.empty()) throw InputError("--files-from " + list + ": names no frame");
+  return expandInputs(named);
 }
 
 bool isSingleFrame(const std::vector<std::string>& args) {

@@ -16,6 +16,12 @@ bool hasImageExtension(const std::string& path);
 /// the list and fails as its own frame (loading names it).
 std::vector<std::string> expandInputs(const std::vector<std::string>& args);
 
+/// The frames named in a list file (`--files-from`; "-" reads standard input): one path per
+/// line as the working folder sees it, surrounding blanks (and a CR) dropped, empty lines and
+/// lines starting with '#' skipped; a folder named stands for its images, as on the command
+/// line. InputError naming the list when it cannot be read or names no frame.
+std::vector<std::string> readFileList(const std::string& list);
+
 /// True when the arguments are one file (not a folder): the run is a single solve.
 bool isSingleFrame(const std::vector<std::string>& args);
 

@@ -42,6 +42,11 @@ struct SolveOptions {
   std::vector<double> observer_velocity_km_s;  ///< added to the Earth's (GCRS/ICRS axes)
   std::string dark;     ///< master dark file (`startracker dark`), subtracted before detection
   cv::Mat dark_frame;   ///< its pixels, read once by the PlateSolver
+  // A batch at scale (app/solve_batch.cpp, results_file.hpp):
+  std::string files_from;  ///< a list file of frames, one per line ("-": standard input)
+  std::string shard;       ///< "i/N": this run solves frames i, i + N, ... of the list
+  std::string output;      ///< JSON Lines results, a line appended as each frame finishes
+  bool resume = false;     ///< continue `output`: frames with a line there are skipped
   std::string option_prefix = "--";  ///< how messages name options ("" in the library)
 
   /// The parity flag as the search takes it.

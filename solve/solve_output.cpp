@@ -219,9 +219,13 @@ nlohmann::ordered_json errorJson(const std::string& message, int exit_code) {
   return {{"solved", false}, {"status", "error"}, {"error", message}, {"exit_code", exit_code}};
 }
 
-void printJson(const nlohmann::ordered_json& j) {
+std::string jsonLine(const nlohmann::ordered_json& j) {
   // Invalid UTF-8 in a file name must not abort the one line a script waits for.
-  std::printf("%s\n", j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+void printJson(const nlohmann::ordered_json& j) {
+  std::printf("%s\n", jsonLine(j).c_str());
   std::fflush(stdout);
 }
 

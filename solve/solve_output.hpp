@@ -77,7 +77,9 @@ nlohmann::ordered_json errorJson(const std::string& message, int exit_code);
 /// sigma of the light along and across its long axis, peak over flux, flags), to stderr:
 /// what `-v` shows to see why a frame did or did not solve.
 void printDetections(const FrameInput& in, std::size_t n = 25);
-/// One line on stdout.
+/// `j` as one line of text, without the newline (invalid UTF-8 in a file name replaced).
+std::string jsonLine(const nlohmann::ordered_json& j);
+/// jsonLine on stdout.
 void printJson(const nlohmann::ordered_json& j);
 
 /// The annotated picture of a frame, solved or not (the image, or a black frame for a star

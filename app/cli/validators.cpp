@@ -113,10 +113,17 @@ CLI::Validator FiniteNumber() { return Number(-kNoBound, kNoBound); }
 void applyTypeChecks(CLI::App& app) {
   for (CLI::Option* opt : app.get_options()) {
     if (opt->get_type_size_max() == 0) continue;  // a flag
+    // `--size W H IMAGE`: an option of a fixed count takes that many values and no more.
+    // CLI11 leaves a vector option greedy after expected(N) and only spares the arguments a
+    // *required* positional still needs, so an optional IMAGE (solve's, with --files-from)
+    // would be eaten as a third value.
+    if (!opt->get_positional() && opt->get_expected_min() == opt->get_expected_max() &&
+        opt->get_expected_max() > 1)
+      opt->allow_extra_args(false);
     const std::string full = opt->get_type_name();
     const std::string type = full.substr(0, full.find(':'));
     // An empty description keeps the help text as the command wrote it.
-        // CLI11 2.1 saturates a uint64 past its range without a word; narrower types get its
+    // CLI11 2.1 saturates a uint64 past its range without a word; narrower types get its
     // conversion error, worded by parse_errors.cpp.
     if (type == "UINT")
       opt->check(WholeNumber(0, kMaxU64).description(""));

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/shard.hpp"
 
 namespace st::app::mc {
 
@@ -29,23 +30,9 @@ std::string joinList(const std::vector<std::string>& v) {
 }
 
 void parseShard(const std::string& text, int& index, int& count) {
-  const auto slash = text.find('/');
-  std::size_t used_i = 0, used_n = 0;
-  long i = -1, n = -1;
-  try {
-    if (slash != std::string::npos) {
-      const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
-      i = std::stol(a, &used_i);
-      n = std::stol(b, &used_n);
-      if (used_i != a.size() || used_n != b.size()) i = -1;
-    }
-  } catch (const std::exception&) {
-    i = -1;
-  }
-  if (i < 0 || n < 1 || i >= n || n > 1000000)
-    throw InputError("--shard '" + text + "': expected i/N with 0 <= i < N (e.g. 0/4)");
-  index = static_cast<int>(i);
-  count = static_cast<int>(n);
+  const Shard s = Shard::parse(text);
+  index = s.index;
+  count = s.count;
 }
 
 std::map<std::string, std::string> McOptions::toKeyValues() const {
