@@ -11,6 +11,12 @@ Without `database=`, solve builds the database for the camera (or the FOV search
 default catalog and keeps it for the next call with the same camera; pass
 `startracker.Database(path)` (a `startracker catalog build` file) or
 `startracker.Database.for_camera(w, h, fov_deg)` to choose it.
+
+    rs = startracker.solve_files(paths, fov_deg=11.4)                 # many files, in order
+    rs = startracker.solve_files(paths, client=dask_client, fov_deg=11.4)  # over Dask workers
+
+(startracker/scale.py: chunks per worker, the database loaded once per worker, a dask.bag
+recipe; Dask is needed only when a client is passed.)
 """
 import os as _os
 import pathlib as _pathlib
@@ -26,6 +32,8 @@ if "STARTRACKER_DATA_DIR" not in _os.environ and len(_parents) > 4:
 
 from ._startracker import (  # noqa: E402
     Database, Tracker, data_dir, read_image, solve, solve_file, version)
+from .scale import solve_files  # noqa: E402  (many files: here, or over a Dask client)
 
 __version__ = version()
-__all__ = ["Database", "Tracker", "data_dir", "read_image", "solve", "solve_file", "version", "__version__"]
+__all__ = ["Database", "Tracker", "data_dir", "read_image", "solve", "solve_file", "solve_files",
+           "version", "__version__"]
