@@ -29,6 +29,7 @@ namespace st::app {
 namespace {
 
 struct CalibrateOptions {
+  bool force = false;  ///< replace an existing -o
   std::vector<std::string> inputs;
   std::string output;
   solve::CameraOptions camera;  ///< the start (optional: else a FOV search)
@@ -201,7 +202,7 @@ int runCalibrate(const CalibrateOptions& o) {
   inputs.push_back({o.camera.camera_file, "--camera"});
   inputs.push_back({o.database, "--database"});
   refuseSameFile(o.output, "-o", inputs);
-  prepareOutputFile(o.output, "-o");
+  prepareOutputFile(o.output, "-o", o.force);
   // An unreadable frame is skipped with a warning, as solve does in a batch (issue 39: one
   // damaged file ended the whole calibration); the first readable one sets the size.
   std::vector<std::string> unreadable;
@@ -280,6 +281,7 @@ void addCalibrateCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("inputs", o->inputs, "Images or folders of images of one camera")->required();
   cmd->add_option("-o,--output", o->output, "Camera file to write (OpenCV YAML, --camera reads it)")
       ->required();
+  cmd->add_flag("-f,--force", o->force, "Replace existing output files (without it an existing output is refused)");
   addCameraFlags(*cmd, o->camera);
   cmd->add_option("--fov-range", o->fov_range_deg, "FOV search range without --camera/--fov-deg [deg]")
       ->expected(2)

@@ -20,6 +20,8 @@ void addCameraCommand(CLI::App& root, CommandRun& run) {
       ->expected(2);
   auto out = std::make_shared<std::string>();
   cmd->add_option("--save", *out, "Write the camera as OpenCV YAML to this file");
+  auto force = std::make_shared<bool>(false);
+  cmd->add_flag("-f,--force", *force, "Replace existing output files (without it an existing output is refused)");
   // `camera FILE` as well as `camera --camera FILE` (issue 39: the plain form was refused).
   auto file = std::make_shared<std::string>();
   cmd->add_option("file", *file, "Camera file (the same as --camera FILE)");
@@ -33,7 +35,7 @@ void addCameraCommand(CLI::App& root, CommandRun& run) {
       const int w = size->size() == 2 ? (*size)[0] : 0, h = size->size() == 2 ? (*size)[1] : 0;
       if (opts->fov_deg > 0 && (w <= 0 || h <= 0))
         throw InputError("--fov-deg needs --size W H with positive values");
-      if (!out->empty()) prepareOutputFile(*out, "--save");
+      if (!out->empty()) prepareOutputFile(*out, "--save", *force);
       const CameraModel cam = opts->resolve(w, h);
       std::printf("%s\n", cam.describe().c_str());
       std::printf("pixel scale %.3f arcsec/px, half-diagonal FOV %.4f deg\n",

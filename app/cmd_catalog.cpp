@@ -29,6 +29,7 @@ namespace st::app {
 namespace {
 
 struct CatalogBuildOptions {
+  bool force = false;  ///< replace an existing -o
   std::string catalog_path = StarDatabase::defaultCatalogPath();
   std::string catalog_format = "auto";
   solve::CameraOptions camera;             // --camera / --camera-section / --fov-deg (horizontal)
@@ -196,7 +197,7 @@ int runBuild(const CatalogBuildOptions& o) {
   const DatabaseParams p = buildParams(o, diag);
   refuseSameFile(o.out, "--output",
                  {{o.catalog_path, "--catalog"}, {o.camera.camera_file, "--camera"}});
-  prepareOutputFile(o.out, "--output");
+  prepareOutputFile(o.out, "--output", o.force);
   log::info("camera: %s; pairs up to %.3f deg", how.c_str(), rad2deg(p.max_pair_angle));
   log::info("loading %s", o.catalog_path.c_str());
   const StarCatalog cat = loadCatalog(o.catalog_path, o.catalog_format);
@@ -265,6 +266,7 @@ void addCatalogCommand(CLI::App& root, CommandRun& run) {
   build->add_option("--neighbour-deg", o->neighbour_deg,
                     "Radius of the star-neighbourhood table [deg] (default: half the diagonal)");
   build->add_option("-o,--output", o->out, "Database file to write")->required();
+  build->add_flag("-f,--force", o->force, "Replace existing output files (without it an existing output is refused)");
   build->callback([o, &run] {
     run = [o] { return runBuild(*o); };
   });

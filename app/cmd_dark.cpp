@@ -24,6 +24,7 @@ namespace {
 constexpr int kMinDarkFrames = 3;
 
 struct DarkArgs {
+  bool force = false;  ///< replace an existing -o
   std::vector<std::string> inputs;
   std::string output;
   double hot_sigma = 5.0;
@@ -39,7 +40,7 @@ int runDark(const DarkArgs& a) {
   std::vector<NamedPath> inputs;
   for (const std::string& f : files) inputs.push_back({f, "an input frame"});
   refuseSameFile(a.output, "-o/--output", inputs);
-  prepareOutputFile(a.output, "-o/--output");
+  prepareOutputFile(a.output, "-o/--output", a.force);
   if (static_cast<int>(files.size()) < kMinDarkFrames)
     throw InputError("dark: " + std::to_string(files.size()) + " frame(s) given; the median needs at least " +
                      std::to_string(kMinDarkFrames));
@@ -73,6 +74,7 @@ void addDarkCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("-o,--output", a->output,
                   "The dark: .fits, or the image format the extension names (.png, .tif)")
       ->required();
+  cmd->add_flag("-f,--force", a->force, "Replace existing output files (without it an existing output is refused)");
   cmd->add_option("--hot-sigma", a->hot_sigma,
                   "Report pixels above mean + this many robust sigma as hot")
       ->capture_default_str()

@@ -338,16 +338,17 @@ int runLive(const LiveArgs& args) {
       args.out.empty() ? readLiveIni(IniReader{cfg, args.config}).global.rawlog_file : args.out;
   const fs::path out_path = fs::absolute(out).lexically_normal();
   if (!args.force) replaceEarlierRun(out_path.string(), false);  // refused before any work
+  // The recording and its replay .ini are one run's: replaceEarlierRun decided for both.
   prepareOutputFile(out_path.string(), args.out.empty() ? args.config + ": [global] rawlog_file"
-                                                        : std::string("-o"));
-  prepareOutputFile(replayConfigPath(out_path).string(), "-o");
+                                                        : std::string("-o"), /*replace=*/true);
+  prepareOutputFile(replayConfigPath(out_path).string(), "-o", /*replace=*/true);
   if (!args.csv.empty()) {
     checked.csv = fs::absolute(args.csv).lexically_normal().string();
     refuseSameFile(checked.csv, "--csv",
                    {{out_path.string(), "the recording"},
                     {replayConfigPath(out_path).string(), "the recording's replay .ini"},
                     {args.config, "the live .ini"}});
-    prepareOutputFile(checked.csv, "--csv");
+    prepareOutputFile(checked.csv, "--csv", args.force);
   }
   fs::current_path(config.parent_path());  // the .ini's relative paths
 
@@ -382,7 +383,8 @@ void addLiveCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("--csv", args->csv, "Trajectory CSV of the filter, one row per frame (as "
                                       "replay's)");
   cmd->add_flag("-f,--force", args->force,
-                "Replace an existing recording at the output (and empty its images folder)");
+                "Replace existing outputs: the recording at -o (and empty its images folder), "
+                "--csv (without it an existing output is refused)");
   cmd->add_flag("--gui", args->gui, "Show the frame, blobs, identified stars and attitude");
   cmd->callback([args, &run] { run = [args] { return runLive(*args); }; });
 }

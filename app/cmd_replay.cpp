@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/command.hpp"
+#include "app/earlier_run.hpp"
 #include "app/live/step_report.hpp"
 #include "app/live/replay_config.hpp"
 #include "common/output_file.hpp"
@@ -39,6 +40,7 @@ namespace fs = std::filesystem;
 struct ReplayOpts {
   std::string rawlog, config, output, csv, plots;
   bool realtime = false;
+  bool force = false;  ///< replace existing outputs (-o with its images link, --csv)
   bool strict = false;  ///< a damaged rawlog is an error instead of replayed up to the damage
 };
 
@@ -149,15 +151,17 @@ std::string plots(const std::vector<NavStep>& steps, const std::string& dir) {
 
 /// Every output path is checked before the (possibly long) run, so a typo fails at once.
 void prepareOutputs(const ReplayOpts& o) {
+  // Two outputs on one file first: that names the slip better than "it exists".
+  refuseSameFile(o.csv, "--csv", {{o.rawlog, "the input rawlog"}, {o.output, "-o/--output"}});
   if (!o.output.empty()) {
     std::error_code ec;
     if (fs::equivalent(o.output, o.rawlog, ec))
       throw InputError("-o/--output " + o.output +
                        ": the output rawlog must differ from the input");
-    prepareOutputFile(o.output, "-o/--output");
+    replaceEarlierRun(o.output, o.force);  // refused without -f, with its images folder
+    prepareOutputFile(o.output, "-o/--output", /*replace=*/true);
   }
-  refuseSameFile(o.csv, "--csv", {{o.rawlog, "the input rawlog"}, {o.output, "-o/--output"}});
-  if (!o.csv.empty()) prepareOutputFile(o.csv, "--csv");
+  if (!o.csv.empty()) prepareOutputFile(o.csv, "--csv", o.force);
   if (!o.plots.empty()) prepareOutputDir(o.plots, "--plots");
 }
 
@@ -398,6 +402,9 @@ void addReplayCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("-o,--output", o->output, "Output rawlog: the input + STAR_TRACKER");
   cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
   cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");
+  cmd->add_flag("-f,--force", o->force,
+                "Replace existing outputs: -o (and its images link), --csv (without it an "
+                "existing output is refused; plots in --plots are replaced)");
   cmd->add_flag("--realtime", o->realtime, "Replay at the recorded speed");
   cmd->add_flag("--strict", o->strict,
                 "A rawlog truncated or damaged part way is an error (exit 2); by default the "

@@ -44,8 +44,8 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
   cmd->callback([o, seed_opt, frames_opt, &run] {
     run = [o, seed_opt, frames_opt] {
       const Scenario sc = Scenario::load(o->scenario);
-      prepareOutputFile(o->output, "-o/--output");
-      replaceEarlierRun(o->output, o->force);
+      replaceEarlierRun(o->output, o->force);  // refused without -f, with its images folder
+      prepareOutputFile(o->output, "-o/--output", /*replace=*/true);
       SimulateOptions opts;
       if (seed_opt->count() > 0) opts.seed = o->seed;
       if (frames_opt->count() > 0) opts.frames = o->frames;

@@ -50,6 +50,9 @@ void addBatchOptions(CLI::App& cmd, solve::SolveOptions& o) {
                  "is the run's: 0 when every frame has its line, solved or not. An existing "
                  "file is refused unless --resume. `solve merge PART... -o OUT [--files-from "
                  "LIST]` joins the parts of a sharded run, in the list's order");
+  cmd.add_flag("-f,--force", o.force,
+               "Replace existing output files: --annotate, --wcs, -o (without it an existing "
+               "output is refused; -o is continued by --resume instead)");
   cmd.add_flag("--resume", o.resume,
                "Continue the -o file of an interrupted run: frames with a line there are "
                "skipped, a last line cut by the interruption is solved again");
@@ -130,7 +133,7 @@ void addSolveCommand(CLI::App& root, CommandRun& run_fn) {
     std::vector<std::string> other_flags;
     for (const CLI::Option* opt : cmd->get_options()) {
       const std::string name = opt->get_name();
-      if (opt->count() > 0 && !opt->get_positional() && name != "--output" &&
+      if (opt->count() > 0 && !opt->get_positional() && name != "--output" && name != "--force" &&
           name != "--files-from" && name != "--verbose" && name != "--quiet")
         other_flags.push_back(name);
     }

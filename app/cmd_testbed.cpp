@@ -89,11 +89,13 @@ struct DrawArgs {
   int max_stars = 12;
   double dot_sigma_px = 3.0;
   std::string catalog, output;
+  bool force = false;
 };
 
 int runDraw(const DrawArgs& a) {
   const DisplayGeometry g = a.geo.resolve();
-  prepareOutputFile(a.output, "-o/--output");
+  prepareOutputFile(a.output, "-o/--output", a.force);
+  prepareOutputFile(withExtension(a.output, ".csv"), "-o/--output's star list", a.force);
   const StarCatalog cat =
       loadCatalog(a.catalog.empty() ? StarDatabase::defaultCatalogPath() : a.catalog);
   std::vector<Vec3> u;
@@ -131,11 +133,12 @@ struct PhotoArgs {
   double noise_adu = 2.0;
   uint64_t seed = 1;
   std::string screen, output;
+  bool force = false;
 };
 
 int runPhotograph(const PhotoArgs& a) {
   const DisplayGeometry g = a.geo.resolve();
-  prepareOutputFile(a.output, "-o/--output");
+  prepareOutputFile(a.output, "-o/--output", a.force);
   const CameraModel cam = a.camera.resolve(a.size[0], a.size[1]);
   const cv::Mat screen = imageio::loadImage(a.screen).image;
   if (screen.cols != g.screen_width_px || screen.rows != g.screen_height_px)
@@ -268,6 +271,7 @@ void addTestbedCommand(CLI::App& root, CommandRun& run) {
   draw->add_option("--catalog", d->catalog, "Star catalog (default: the committed Hipparcos subset)");
   draw->add_option("-o,--output", d->output, "Screen image (.png); the star list goes beside it "
                    "as .csv")->required();
+  draw->add_flag("-f,--force", d->force, "Replace existing output files (without it an existing output is refused)");
   draw->callback([d, &run] { run = [d] { return runDraw(*d); }; });
 
   auto* photo = cmd->add_subcommand("photograph", "Simulate the camera's image of a screen image "
@@ -285,6 +289,7 @@ void addTestbedCommand(CLI::App& root, CommandRun& run) {
   photo->add_option("--seed", p->seed, "Noise seed")
       ->check(cli::WholeNumber(0, cli::kMaxU64))->capture_default_str();
   photo->add_option("-o,--output", p->output, "Camera image (.png)")->required();
+  photo->add_flag("-f,--force", p->force, "Replace existing output files (without it an existing output is refused)");
   photo->callback([p, &run] { run = [p] { return runPhotograph(*p); }; });
 
   auto* solve = cmd->add_subcommand("solve", "Solve camera images of the screen by the "

@@ -58,9 +58,9 @@ void checkBeforeWork(const SolveOptions& o, std::size_t frames) {
   if (!o.annotate.empty()) {
     if (!imageio::isPngPath(o.annotate))
       throw InputError("--annotate " + o.annotate + ": the picture is a PNG (name it .png)");
-    prepareOutputFile(o.annotate, "--annotate");
+    prepareOutputFile(o.annotate, "--annotate", o.force);
   }
-  if (!o.wcs.empty()) prepareOutputFile(o.wcs, "--wcs");
+  if (!o.wcs.empty()) prepareOutputFile(o.wcs, "--wcs", o.force);
   o.positionHint();  // a bad hint fails before any work
 }
 
@@ -159,7 +159,7 @@ int runBatch(const SolveOptions& o, const BatchFrames& batch) {
   std::unique_ptr<ResultsLog> results;
   std::unordered_set<std::string> done_before;
   if (!o.output.empty()) {
-    results = std::make_unique<ResultsLog>(o.output, o.resume);
+    results = std::make_unique<ResultsLog>(o.output, o.resume, o.force);
     done_before = framesDone(results->earlier(), batch);
     if (results->earlier().cut_last)
       log::info("%s: its last line was cut by the interruption; that frame is solved again",
@@ -265,7 +265,7 @@ int runSolveMerge(const SolveOptions& o, const std::vector<std::string>& other_f
   refuseSameFile(o.output, "-o", inputs);
   const std::vector<std::string> order =
       o.files_from.empty() ? std::vector<std::string>{} : readFileList(o.files_from);
-  prepareOutputFile(o.output, "-o");
+  prepareOutputFile(o.output, "-o", o.force);
   const std::size_t n = mergeResults(parts, order, o.output);
   log::info("%zu frames from %zu part%s merged into %s%s", n, parts.size(),
             parts.size() == 1 ? "" : "s", o.output.c_str(),

@@ -31,8 +31,15 @@ void proveWritable(const fs::path& file, const std::string& flag, const std::str
 }
 }  // namespace
 
-void prepareOutputFile(const std::string& path, const std::string& flag) {
+std::string existingOutputMessage(const std::string& path, const std::string& flag) {
+  return flag + " " + path + ": the file exists (an earlier run's?); -f/--force replaces it";
+}
+
+void prepareOutputFile(const std::string& path, const std::string& flag, bool replace) {
   if (path.empty()) throw InputError(flag + ": empty path");
+  std::error_code ec;
+  if (!replace && fs::exists(path, ec) && !fs::is_directory(path, ec))
+    throw InputError(existingOutputMessage(path, flag));
   createFolders(fs::path(path).parent_path(), flag, path);
   proveWritable(path, flag, path);
 }

@@ -2,7 +2,10 @@
 /// Every output path a command writes is checked before the work starts, so a typo in
 /// `--csv` or `--annotate` fails in a second with a clear message instead of losing a
 /// finished run. One policy for every command: missing parent folders are created; a path
-/// that cannot be written is an InputError naming the flag and the path.
+/// that cannot be written is an InputError naming the flag and the path; an existing file is
+/// refused unless the command was given -f/--force (an earlier run's result is not lost to a
+/// repeated command line); and the file is written under a temporary name and renamed when
+/// complete (PendingOutput), so an interrupted run leaves the earlier file as it was.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -12,8 +15,13 @@ namespace st {
 
 /// Creates the parent folders of `path` and proves the file can be written (an existing file
 /// is left untouched; a new one is created empty and removed again). `flag` names the
-/// option in the message, e.g. "--csv". Throws InputError.
-void prepareOutputFile(const std::string& path, const std::string& flag);
+/// option in the message, e.g. "--csv". An existing file is an InputError unless `replace`
+/// (the command's -f/--force). Throws InputError.
+void prepareOutputFile(const std::string& path, const std::string& flag, bool replace);
+
+/// The refusal of an existing output, worded once: "FLAG PATH: the file exists (an earlier
+/// run's?); -f/--force replaces it".
+std::string existingOutputMessage(const std::string& path, const std::string& flag);
 
 /// A path a command reads or writes, and what names it in a message ("the input rawlog",
 /// "--csv").

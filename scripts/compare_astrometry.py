@@ -167,7 +167,7 @@ def main():
         centre = float(separation_arcsec(ra[0], de[0], sol["ra_deg"], sol["dec_deg"]))
         worst = max(worst, centre)
         ours_wcs = os.path.join(a.work, stem + ".startracker.wcs")
-        cmd = [st, "solve", img, "--no-aberration", "--wcs", ours_wcs, "-q"]
+        cmd = [st, "solve", img, "--no-aberration", "--wcs", ours_wcs, "-q", "-f"]  # -f: the last run's WCS is replaced
         if a.fov_deg:
             cmd += ["--fov-deg", str(a.fov_deg)]
         subprocess.run(cmd, check=True, capture_output=True)

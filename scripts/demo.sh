@@ -8,5 +8,6 @@ cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)" --target startracker
 mkdir -p out
+# -f: the demo's own outputs of an earlier run are replaced (without it they are refused).
 ./build/app/startracker replay rawlogs/slew_2dps.rawlog --config rawlogs/tracker.ini --plots out/replay --csv out/replay.csv \
-  -o out/replay.rawlog
+  -o out/replay.rawlog -f

@@ -32,4 +32,4 @@ rawlog="$out/gyroless_${seconds}s.rawlog"
 sed "s/^duration_s .*/duration_s     = $seconds/" "$repo/rawlogs/gyroless_60s.ini" >"$out/scenario.ini"
 "$exe" simulate -q "$out/scenario.ini" --force -o "$rawlog"
 "$exe" replay -q "$rawlog" --config "$repo/rawlogs/gyroless_tracker.ini" \
-  --csv "$out/gyroless_${seconds}s.csv" | tee "$out/summary.txt"
+  --csv "$out/gyroless_${seconds}s.csv" -f | tee "$out/summary.txt"

@@ -138,7 +138,7 @@ if [[ $do_replay == 1 ]]; then
   fi
   echo "soak: replay of $rl -> $out/replay.log" | tee -a "$summary"
   rc=0
-  run_sampled replay "$st" replay "$rl" --config "$config" --csv "$out/replay.csv" || rc=$?
+  run_sampled replay "$st" replay "$rl" --config "$config" --csv "$out/replay.csv" -f || rc=$?
   echo "replay: exit $rc" | tee -a "$summary"
   grep -E 'frames|observations|solved' "$out/replay.log" | head -8 | tee -a "$summary" || true
   rss_summary replay

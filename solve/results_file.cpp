@@ -71,15 +71,17 @@ ResultsIndex readResults(const std::string& path, const std::string& flag) {
   return idx;
 }
 
-ResultsLog::ResultsLog(const std::string& path, bool resume) : path_(path) {
-  prepareOutputFile(path, "-o");
-  if (::access(path.c_str(), F_OK) == 0) {
-    if (!resume)
-      throw InputError("-o " + path + ": the results of an earlier run are there; --resume " +
-                       "continues it (frames with a result are skipped), or remove it");
-    earlier_ = readResults(path, "-o");
-  }
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+ResultsLog::ResultsLog(const std::string& path, bool resume, bool replace) : path_(path) {
+  prepareOutputFile(path, "-o", /*replace=*/true);  // existing: continued, replaced or refused below
+  const bool exists = ::access(path.c_str(), F_OK) == 0;
+  if (exists && !resume && !replace)
+    throw InputError("-o " + path + ": the results of an earlier run are there; --resume " +
+                     "continues it (frames with a result are skipped), -f/--force replaces it");
+  if (exists && resume) earlier_ = readResults(path, "-o");
+  // -f without --resume: the earlier results go now (this file is written as frames finish,
+  // so it cannot wait for a rename at the end).
+  const int trunc = exists && !resume ? O_TRUNC : 0;
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | trunc, 0644);
   if (fd_ < 0) throw InputError("-o " + path + ": cannot open: " + std::strerror(errno));
   // The cut last line goes: its frame is solved again and appended whole.
   if (earlier_.cut_last && ::ftruncate(fd_, static_cast<off_t>(earlier_.complete_bytes)) != 0)

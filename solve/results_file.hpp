@@ -45,8 +45,9 @@ class ResultsLog {
  public:
   /// A new file at `path`; with `resume` an existing file is continued (read back into
   /// earlier(), its cut last line removed) and a missing one created. Without `resume` an
-  /// existing file is refused (InputError): it is the product of an earlier run.
-  ResultsLog(const std::string& path, bool resume);
+  /// existing file is refused (InputError: it is the product of an earlier run) unless
+  /// `replace` (-f), which starts it afresh.
+  ResultsLog(const std::string& path, bool resume, bool replace);
   ~ResultsLog();
   ResultsLog(const ResultsLog&) = delete;
   ResultsLog& operator=(const ResultsLog&) = delete;

@@ -47,6 +47,7 @@ struct SolveOptions {
   std::string shard;       ///< "i/N": this run solves frames i, i + N, ... of the list
   std::string output;      ///< JSON Lines results, a line appended as each frame finishes
   bool resume = false;     ///< continue `output`: frames with a line there are skipped
+  bool force = false;      ///< replace existing outputs (--annotate, --wcs, -o)
   std::string option_prefix = "--";  ///< how messages name options ("" in the library)
 
   /// The parity flag as the search takes it.
