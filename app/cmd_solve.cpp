@@ -28,7 +28,8 @@ void addSearchOptions(CLI::App& cmd, solve::SolveOptions& o) {
   cmd.add_option("--radius", o.radius_deg,
                  "Position hint: accept only a boresight within this radius [deg]");
   cmd.add_option("--cpulimit", o.cpulimit_s,
-                 "Give up after this many seconds (checked between FOV and parity tries)")
+                 "Give up after this many seconds of the frame (checked inside identification and "
+                 "a database build; decoding and detection run to their end)")
       ->check(CLI::PositiveNumber);
   cmd.add_option("--width", o.width, "Image width [px] of a star list (CSV or FITS table)")
       ->check(CLI::Range(1, 1000000));

@@ -91,16 +91,18 @@ std::string databaseCacheName(const DatabaseParams& p, const std::string& catalo
 DatabaseCache::DatabaseCache(std::string catalog_path, bool use_disk)
     : catalog_path_(std::move(catalog_path)), use_disk_(use_disk) {}
 
-CachedDatabase DatabaseCache::get(const DatabaseParams& p) {
+CachedDatabase DatabaseCache::get(const DatabaseParams& p, const StarDatabase::StopFn& stop) {
   // One build at a time: the threads of a batch want the same database, built once.
   std::lock_guard<std::mutex> lock(mutex_);
   const std::string key = databaseCacheName(p, catalog_path_);
   auto it = memory_.find(key);
   if (it != memory_.end()) return it->second;
-  return memory_[key] = loadOrBuild(p);
+  CachedDatabase built = loadOrBuild(p, stop);  // a stopped build throws: nothing kept
+  return memory_[key] = std::move(built);
 }
 
-CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p) {
+CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p,
+                                          const StarDatabase::StopFn& stop) {
   CachedDatabase out;
   const std::string dir = use_disk_ ? databaseCacheDir() : "";
   const std::string path = dir.empty() ? "" : dir + "/" + databaseCacheName(p, catalog_path_);
@@ -119,7 +121,8 @@ CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p) {
       log::warn("star database cache %s is unreadable (%s): rebuilding it", path.c_str(), e.what());
     }
   }
-  out.db = std::make_shared<StarDatabase>(StarDatabase::build(loadCatalog(catalog_path_), p));
+  out.db = std::make_shared<StarDatabase>(
+      StarDatabase::build(loadCatalog(catalog_path_), p, StarDatabase::ProgressFn(), stop));
   out.how = "built in memory";
   if (path.empty()) return out;
   // pid + counter: unique among every process and thread writing into the folder.
@@ -144,7 +147,8 @@ CachedDatabase DatabaseCache::loadOrBuild(const DatabaseParams& p) {
 
 std::shared_ptr<const StarDatabase> cameraDatabase(const CameraDatabaseRecipe& r,
                                                    const std::string& catalog_path, bool use_disk,
-                                                   std::string* how) {
+                                                   std::string* how,
+                                                   const StarDatabase::StopFn& stop) {
   // One cache per catalog file and disk policy, for the life of the process.
   static std::mutex mutex;
   static std::map<std::pair<std::string, bool>, std::unique_ptr<DatabaseCache>> caches;
@@ -156,7 +160,7 @@ std::shared_ptr<const StarDatabase> cameraDatabase(const CameraDatabaseRecipe& r
     if (!slot) slot = std::make_unique<DatabaseCache>(cat, use_disk);
     cache = slot.get();
   }
-  CachedDatabase c = cache->get(databaseParams(r));
+  CachedDatabase c = cache->get(databaseParams(r), stop);
   if (how) *how = c.how;
   return c.db;
 }

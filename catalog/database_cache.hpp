@@ -37,10 +37,11 @@ class DatabaseCache {
  public:
   /// `use_disk` false (--no-cache): build in memory only.
   DatabaseCache(std::string catalog_path, bool use_disk);
-  CachedDatabase get(const DatabaseParams& p);
+  /// `stop` (optional) ends a build under way (BuildStopped; nothing is kept or cached).
+  CachedDatabase get(const DatabaseParams& p, const StarDatabase::StopFn& stop = {});
 
  private:
-  CachedDatabase loadOrBuild(const DatabaseParams& p);
+  CachedDatabase loadOrBuild(const DatabaseParams& p, const StarDatabase::StopFn& stop);
   std::string catalog_path_;
   bool use_disk_;
   std::mutex mutex_;
@@ -50,9 +51,11 @@ class DatabaseCache {
 /// The one way to the star database of a camera recipe (database_recipe.hpp), for every
 /// command and the library: built from `catalog_path` ("" = the default catalog) once per
 /// process and kept in the user's cache folder (`use_disk` false: in memory only). `how`
-/// (optional) receives where it came from ("built in memory", "read from the cache ...").
+/// (optional) receives where it came from ("built in memory", "read from the cache ...");
+/// `stop` (optional: solve's --cpulimit) ends a build under way with BuildStopped.
 std::shared_ptr<const StarDatabase> cameraDatabase(const CameraDatabaseRecipe& r,
                                                    const std::string& catalog_path = "",
-                                                   bool use_disk = true, std::string* how = nullptr);
+                                                   bool use_disk = true, std::string* how = nullptr,
+                                                   const StarDatabase::StopFn& stop = {});
 
 }  // namespace st

@@ -159,8 +159,18 @@ std::vector<Star> uniformDensityStars(const StarDatabase& db, const DatabasePara
 
 }  // namespace
 
+namespace {
+/// Every this many stars the pair and neighbour loops ask whether to stop (~1 ms of work at
+/// the widest field's few thousand pairs per star).
+constexpr uint32_t kStopCheckStars = 64;
+
+void stopIfAsked(const StarDatabase::StopFn& stop) {
+  if (stop && stop()) throw BuildStopped("the star database build was stopped");
+}
+}  // namespace
+
 StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& params_in,
-                                 const ProgressFn& progress) {
+                                 const ProgressFn& progress, const StopFn& stop) {
   requireValid(params_in);  // the ground program's edge: InputError naming the field
   const auto t0 = std::chrono::steady_clock::now();
   StarDatabase db;
@@ -203,13 +213,14 @@ StarDatabase StarDatabase::build(const StarCatalog& cat, const DatabaseParams& p
                    [](const ScreenStar& a, const ScreenStar& b) { return a.mag < b.mag; });
   rep.screen_stars = db.screen_.size();
   db.buildIndexes();
+  stopIfAsked(stop);
 
   // 5. Pairs + k-vector, 6. neighbour table.
   say(progress, "building star pairs and k-vector for " + std::to_string(db.stars_.size()) +
                     " stars");
-  db.buildPairs();
+  db.buildPairs(stop);
   say(progress, "building the neighbour table (" + std::to_string(db.pairs_.size()) + " pairs)");
-  db.buildNeighbours();
+  db.buildNeighbours(stop);
   rep.pairs = db.pairs_.size();
   rep.kvector_size = db.pair_kv_.size();
   rep.neighbour_entries = db.nbr_.size();
@@ -227,10 +238,11 @@ void StarDatabase::buildIndexes() {
   screen_cone_.build(u);
 }
 
-void StarDatabase::buildPairs() {
+void StarDatabase::buildPairs(const StopFn& stop) {
   pairs_.clear();
   std::vector<uint32_t> near;
   for (uint32_t i = 0; i < stars_.size(); ++i) {
+    if (i % kStopCheckStars == 0) stopIfAsked(stop);
     coneQuery(stars_[i].u_i, params_.max_pair_angle, near);
     for (uint32_t j : near) {
       if (j <= i) continue;
@@ -240,19 +252,22 @@ void StarDatabase::buildPairs() {
       pairs_.push_back({i, j, float(std::atan2(a.cross(b).norm(), a.dot(b)))});
     }
   }
+  stopIfAsked(stop);
   std::sort(pairs_.begin(), pairs_.end(), [](const StarPair& p, const StarPair& q) {
     if (p.theta != q.theta) return p.theta < q.theta;
     return p.a != q.a ? p.a < q.a : p.b < q.b;
   });
+  stopIfAsked(stop);
   pair_kv_.build(pairs_.size(), [&](std::size_t k) { return double(pairs_[k].theta); });
 }
 
-void StarDatabase::buildNeighbours() {
+void StarDatabase::buildNeighbours(const StopFn& stop) {
   nbr_start_.assign(1, 0);
   nbr_.clear();
   std::vector<uint32_t> near;
   std::vector<std::pair<double, uint32_t>> by_dist;
   for (uint32_t i = 0; i < stars_.size(); ++i) {
+    if (i % kStopCheckStars == 0) stopIfAsked(stop);
     if (params_.neighbour_radius > 0) coneQuery(stars_[i].u_i, params_.neighbour_radius, near);
     else near.clear();
     by_dist.clear();

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,12 @@ struct BuildReport {
 /// The pairs, sorted by angle: the database's largest array (huge_page_allocator.hpp).
 using PairList = std::vector<StarPair, HugePageAllocator<StarPair>>;
 
+/// A build stopped by its StopFn (solve --cpulimit): nothing is kept.
+class BuildStopped : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class StarDatabase {
  public:
   /// A limit beyond the catalog's depth is capped to it (warned once, effectiveMagLimit()); a
@@ -99,7 +106,11 @@ class StarDatabase {
   static StarDatabase build(const StarCatalog&, const DatabaseParams&);
   /// The same, calling `progress` with a one-line message before each step (for the CLI).
   using ProgressFn = std::function<void(const std::string&)>;
-  static StarDatabase build(const StarCatalog&, const DatabaseParams&, const ProgressFn& progress);
+  /// True when the build is to stop (a time limit): checked between steps and every few
+  /// hundred stars inside the pair and neighbour loops; the build then throws BuildStopped.
+  using StopFn = std::function<bool()>;
+  static StarDatabase build(const StarCatalog&, const DatabaseParams&, const ProgressFn& progress,
+                            const StopFn& stop = StopFn());
   static std::string defaultCatalogPath();  ///< hip_main_v6.6.dat.gz in $STARTRACKER_DATA_DIR, else <program>/../share/startracker, else catalog/data
   /// The file format save() writes by default (format 4: B-V per star).
   static constexpr uint32_t kFileFormat = 4;
@@ -147,8 +158,8 @@ class StarDatabase {
 
  private:
   void buildIndexes();  ///< the cone indexes of stars_ and screen_ (also after load)
-  void buildPairs();
-  void buildNeighbours();
+  void buildPairs(const StopFn& stop);
+  void buildNeighbours(const StopFn& stop);
 
   DatabaseParams params_{};
   BuildReport report_;

@@ -141,7 +141,8 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFile(const std::string& path) co
   try {
     CameraSearch cs = cameraSearch(o, probe->width, probe->height);
     DatabaseChoice db =
-        database(o, cs, probe->width, probe->height, probe->epoch_jyear, probe->epoch_source);
+        database(o, cs, probe->width, probe->height, probe->epoch_jyear, probe->epoch_source,
+                 t_start);
     early = Prepared{std::move(cs), std::move(db)};
   } catch (...) {
     early.reset();  // said again, in order, by the sequential path below
@@ -183,7 +184,8 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveFileCaught(const std::string& pa
 /// database of the camera search at the observation epoch (built once, cached on disk).
 DatabaseChoice PlateSolver::database(const SolveOptions& o, const CameraSearch& cs, int width,
                                      int height, const std::optional<double>& epoch_jyear,
-                                     const std::string& epoch_source) const {
+                                     const std::string& epoch_source,
+                                     Clock::time_point t_start) const {
   DatabaseChoice dbc;
   if (given_db_) {
     dbc.db = given_db_;
@@ -214,7 +216,23 @@ DatabaseChoice PlateSolver::database(const SolveOptions& o, const CameraSearch& 
     // Built in the requested frame's annual part; an observer velocity is applied afterwards.
     r.aberration = frame_.annual;
     std::string how;
-    dbc.db = cameraDatabase(r, "", !o.no_cache, &how);
+    // --cpulimit holds inside the build too: a wide field's database takes a minute once.
+    StarDatabase::StopFn stop;
+    const auto deadline =
+        t_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.cpulimit_s));
+    if (o.cpulimit_s > 0) stop = [deadline] { return Clock::now() >= deadline; };
+    try {
+      dbc.db = cameraDatabase(r, "", !o.no_cache, &how, stop);
+    } catch (const BuildStopped&) {
+      char m[320];
+      std::snprintf(m, sizeof m,
+                    "cpu limit reached (%scpulimit %g s) while building the star database of a "
+                    "%.1f deg diagonal; run once without the limit (the database is then cached) "
+                    "or give one from `startracker catalog build` with %sdatabase",
+                    o.option_prefix.c_str(), o.cpulimit_s, rad2deg(cs.max_diag),
+                    o.option_prefix.c_str());
+      throw ProcessingError(m);
+    }
     char b[400];
     std::snprintf(b, sizeof b, "%s from %s (V <= %.1f, epoch from %s)", how.c_str(),
                   StarDatabase::defaultCatalogPath().c_str(), o.mag_limit, dbc.epoch.source.c_str());
@@ -238,7 +256,8 @@ std::unique_ptr<FrameOutcome> PlateSolver::solveInput(FrameInput in, const std::
   // that a camera file is not read again.
   const CameraSearch cs = early ? early->cs : cameraSearch(o, fin.width, fin.height);
   const DatabaseChoice dbc =
-      early ? early->db : database(o, cs, fin.width, fin.height, fin.epoch_jyear, fin.epoch_source);
+      early ? early->db
+            : database(o, cs, fin.width, fin.height, fin.epoch_jyear, fin.epoch_source, t_start);
   f->db = dbc.db;
   const StarDatabase& db = *dbc.db;
   f->rep.reset(new SolveReport{o, fin, db, dbc.source, dbc.epoch, {}, {}, cs.fit_focal, {}, frame_});

@@ -75,7 +75,8 @@ class PlateSolver {
                                            const Prepared* early = nullptr) const;
   DatabaseChoice database(const SolveOptions& o, const CameraSearch& cs, int width, int height,
                           const std::optional<double>& epoch_jyear,
-                          const std::string& epoch_source) const;
+                          const std::string& epoch_source,
+                          std::chrono::steady_clock::time_point t_start) const;
   SolveOptions o_;
   std::shared_ptr<const StarDatabase> given_db_;  ///< --database, or the caller's
   std::string given_source_;

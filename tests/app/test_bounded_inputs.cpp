@@ -122,6 +122,24 @@ TEST(BoundedInputs, TheLargestAcceptedValuesEndWithinBoundedMemoryAndTime) {
   boundedRun("solve " + frame + " --fov-range 1 60 --cpulimit 5", dir);
 }
 
+// --cpulimit holds inside a database build (issue 39, item 4: "--cpulimit bounds every
+// stage"): a 95 deg field's database (49 million pairs, ~7 s here) is stopped by a 1 s limit,
+// said, and not left half-built in the cache for the next run.
+TEST(BoundedInputs, CpuLimitStopsADatabaseBuildAndCachesNothing) {
+  const std::string dir = test::makeTempDir("cpulimit_build");
+  const std::string frame = "'" + test::tetra3Frames().front() + "'";
+  const test::CliRun r = test::runCli(
+      "solve " + frame + " --fov-deg 95 --cpulimit 1 --json", dir,
+      "XDG_CACHE_HOME='" + dir + "/cache' timeout 120 ");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_THAT(r.err, ::testing::HasSubstr("cpu limit reached (--cpulimit 1 s) while building "
+                                          "the star database of a 107.5 deg diagonal"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("\"solved\":false"));
+  std::error_code ec;
+  EXPECT_TRUE(!std::filesystem::exists(dir + "/cache/startracker", ec) ||
+              std::filesystem::is_empty(dir + "/cache/startracker", ec));
+}
+
 TEST(BoundedInputs, NoProgressBarsInARedirectedStderr) {
   const std::string dir = test::makeTempDir("no_bars");
   const test::CliRun r =
