@@ -29,11 +29,10 @@ void proveWritable(const fs::path& file, const std::string& flag, const std::str
   std::fclose(f);
   if (!existed) fs::remove(file, ec);
 }
-}  // namespace
-
 std::string existingOutputMessage(const std::string& path, const std::string& flag) {
   return flag + " " + path + ": the file exists (an earlier run's?); -f/--force replaces it";
 }
+}  // namespace
 
 void prepareOutputFile(const std::string& path, const std::string& flag, bool replace) {
   if (path.empty()) throw InputError(flag + ": empty path");

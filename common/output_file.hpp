@@ -19,9 +19,6 @@ namespace st {
 /// (the command's -f/--force). Throws InputError.
 void prepareOutputFile(const std::string& path, const std::string& flag, bool replace);
 
-/// The refusal of an existing output, worded once: "FLAG PATH: the file exists (an earlier
-/// run's?); -f/--force replaces it".
-std::string existingOutputMessage(const std::string& path, const std::string& flag);
 
 /// A path a command reads or writes, and what names it in a message ("the input rawlog",
 /// "--csv").
