@@ -100,9 +100,13 @@ mutant recursive-gate-sqrt2 sensors/identify/recursive_id.cpp \
   $TR 'RecursiveIdRules.*' \
   "seed 002 step 5: the gate widened by sqrt(2) (3 sqrt(2) sigma counted twice)"
 mutant recursive-gate-no-attitude-cov sensors/identify/recursive_id.cpp \
-  's/const Mat2 S = windowed_\[k\]->cov_att_px \+ cen.cov_px/const Mat2 S = cen.cov_px/' \
+  's/const Mat2 S = windowed_\[k\]->cov_att_px \+ centroidCovariance/const Mat2 S = centroidCovariance/' \
   $TR 'RecursiveIdRules.*' \
   "seed 002 step 5: the attitude's share of the gate (H P H^T) left out"
+mutant recursive-gate-floor-as-term sensors/identify/recursive_id.cpp \
+  's/\+ centroidCovariance\(cen.cov_px\);/+ cen.cov_px + sigma_c_px_ * sigma_c_px_ * Mat2::Identity();/' \
+  $TR 'RecursiveIdRules.*' \
+  "seed 002 step 5: the centroid floor added as a third term (3 sqrt(3) sigma; issue 38 D3)"
 mutant drop-saturated sensors/identify/recursive_id.cpp \
   's/if \(!opts_.drop_saturated\) return;/return;/' \
   $TR 'RecursiveIdRules.*' \

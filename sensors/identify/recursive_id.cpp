@@ -1,6 +1,7 @@
 #include "sensors/identify/recursive_id.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -28,6 +29,18 @@ RecursiveIdentifier::RecursiveIdentifier(const StarDatabase& db, const CameraMod
 void RecursiveIdentifier::cameraChanged(double model_error_px) {
   half_diagonal_fov_ = camera_.halfDiagonalFov();
   sigma_c_px_ = std::hypot(opts_.centroid_sigma_px, model_error_px);
+  model_error_px_ = model_error_px;
+}
+
+Mat2 RecursiveIdentifier::centroidCovariance(const Mat2& cov_px) const {
+  const double floor2 = opts_.centroid_sigma_px * opts_.centroid_sigma_px;
+  Mat2 c = floor2 * Mat2::Identity();
+  if (cov_px.allFinite()) {
+    const Eigen::SelfAdjointEigenSolver<Mat2> es(cov_px);
+    const Vec2 l = es.eigenvalues().cwiseMax(floor2);
+    c = es.eigenvectors() * l.asDiagonal() * es.eigenvectors().transpose();
+  }
+  return c + model_error_px_ * model_error_px_ * Mat2::Identity();
 }
 
 void RecursiveIdentifier::predictCandidates(const CameraPrediction& pred) {
@@ -120,9 +133,8 @@ void RecursiveIdentifier::placeWindows(const CameraPrediction& pred) {
 }
 
 void RecursiveIdentifier::gate(RecursiveIdResult& out) {
-  // Seed 002 step 5: |d| < 3 sqrt(2) sigma, as a Mahalanobis gate.
+  // Seed 002 step 5: |d| < 3 sqrt(2) sigma, as a Mahalanobis gate on H P H^T + C.
   const double gate2 = opts_.gate_sigma * opts_.gate_sigma;
-  const double sigma_c2 = sigma_c_px_ * sigma_c_px_;
   std::vector<double>& d2s = gated_d2_;
   d2s.clear();
   for (std::size_t k = 0; k < found_.size(); ++k) {
@@ -130,7 +142,7 @@ void RecursiveIdentifier::gate(RecursiveIdResult& out) {
     ++out.with_centroid;
     const Centroid& cen = *found_[k].centroid;
     const Vec2 d = cen.px - windowed_[k]->px;
-    const Mat2 S = windowed_[k]->cov_att_px + cen.cov_px + sigma_c2 * Mat2::Identity();
+    const Mat2 S = windowed_[k]->cov_att_px + centroidCovariance(cen.cov_px);
     const double d2 = d.dot(S.ldlt().solve(d));
     if (!(d2 <= gate2)) continue;
     // Two windows that caught the same blob: keep the closer prediction.

@@ -9,9 +9,11 @@
 ///      sized from the attitude covariance projected into pixels (H P H^T,
 ///      H = d(pixel)/d(dtheta)) and the blur (rate x exposure) (seed 004 §4.2.3 predictive
 ///      centroiding); `centroidWindows` reads only those pixels;
-///   3. Mahalanobis gate per star: d^T (H P H^T + C_centroid)^-1 d <= gate_sigma^2. With both
-///      covariances sigma^2 I this is |d| <= 3 sqrt(2) sigma (seed 002 step 5) for the
-///      default gate_sigma = 3.
+///   3. Mahalanobis gate per star: d^T (H P H^T + C)^-1 d <= gate_sigma^2, C the centroid's
+///      covariance with its floor (eigenvalues at least centroid_sigma_px^2) plus the camera
+///      model's error. With both covariances sigma^2 I this is |d| <= 3 sqrt(2) sigma (seed 002
+///      step 5) for the default gate_sigma = 3. (The floor is a least sigma, not a third term:
+///      issue 38's D3.)
 ///
 /// Frames: the prediction and everything here are in the camera frame (q_ic, cov_cam,
 /// rate_cam). Keeps scratch buffers between frames (no allocation once warm): one per thread.
@@ -88,6 +90,8 @@ class RecursiveIdentifier {
   void predictCandidates(const CameraPrediction& pred);
   void placeWindows(const CameraPrediction& pred);
   void gate(RecursiveIdResult& out);
+  /// C of the gate: `cov_px` floored at centroid_sigma_px^2, plus the model error's variance.
+  Mat2 centroidCovariance(const Mat2& cov_px) const;
   bool blended(const Candidate& c, const Vec2& blur) const;
   bool screenedOut(const Candidate& c, double reach_x, double reach_y) const;
 
@@ -96,7 +100,8 @@ class RecursiveIdentifier {
   RecursiveIdOptions opts_;
   StarDetector detector_;  // built once: the windows are centroided without validation
   double half_diagonal_fov_;
-  double sigma_c_px_;  // centroid_sigma_px (+) the camera-model error term
+  double sigma_c_px_;  // centroid_sigma_px (+) the camera-model error term: the windows' sigma
+  double model_error_px_ = 0;  // the camera-model error term in force
   std::vector<uint32_t> cone_;
   std::vector<Candidate> candidates_;
   struct ScreenImage {

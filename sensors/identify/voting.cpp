@@ -7,6 +7,10 @@
 //    unambiguous reference; with a dense catalog f2 is often larger by chance, so ambiguous
 //    references are not discarded but their top candidates are verified in count order;
 //  - companion k is star l_k when l1 appears exactly once in M_{r,k} (eq. 15).
+// Two departures, on purpose (docs/montecarlo/seed000.md, "The reference-star rules"): n - 2
+// references are tried where the seed aborts after n - 3, and f1 >= (n-1) - n_smax is one
+// lower than the seed's f1 > 3n/4 - 1 when 4 divides n, where the seed's f1 would refuse the
+// very spikes its n_smax admits.
 #include <algorithm>
 
 #include "sensors/identify/algorithms.hpp"

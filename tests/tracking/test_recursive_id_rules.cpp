@@ -7,6 +7,8 @@
 //    when fewer would remain.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,15 +39,20 @@ CameraPrediction offPrediction(const Quat& q_true, double offset_rad, double sig
 }
 
 // The gate's Mahalanobis distance of a returned centroid, from the gate's definition (seed
-// 002 step 5) and the public camera Jacobian: what the identifier should have compared.
+// 002 step 5: d^T (H P H^T + C)^-1 d, C the centroid's covariance, here with its floor: no
+// eigenvalue below centroid_sigma_px^2) and the public camera Jacobian: what the identifier
+// should have compared. (Not the code's formula: the code once added the floor as a third
+// term, 3 sqrt(3) sigma instead of 3 sqrt(2) sigma, and a test copying it could not see that.)
 double mahalanobis(const Centroid& c, uint32_t star, const CameraPrediction& pred,
                    double centroid_sigma_px) {
   const CameraModel& cam = test::simCamera();
   const Vec3 v = pred.q_ic.toRotationMatrix().transpose() * test::simDatabase().stars()[star].u_i;
   const Vec2 px = *cam.vectorToPixel(v);
   const Mat23 H = attitudeJacobian(cam, v);
-  const Mat2 S = H * pred.cov_cam * H.transpose() + c.cov_px +
-                 centroid_sigma_px * centroid_sigma_px * Mat2::Identity();
+  const Eigen::SelfAdjointEigenSolver<Mat2> es(c.cov_px);
+  const Vec2 l = es.eigenvalues().cwiseMax(centroid_sigma_px * centroid_sigma_px);
+  const Mat2 C = es.eigenvectors() * l.asDiagonal() * es.eigenvectors().transpose();
+  const Mat2 S = H * pred.cov_cam * H.transpose() + C;
   const Vec2 d = c.px - px;
   return std::sqrt(d.dot(S.ldlt().solve(d)));
 }
@@ -57,19 +64,20 @@ struct GateCount {
 
 // Offset in units of the prediction's sigma; the windows are widened (window_sigmas) so the
 // star is inside its window either way and only the gate decides.
-GateCount gateAt(double offset_sigmas) {
+GateCount gateAt(double offset_sigmas, double sigma_px = 1.0, double floor_px = -1) {
   const Scene s = scene();
   const CameraModel& cam = test::simCamera();
   // 1 px of attitude sigma: the centroid sigma (~0.05 px) and its floor (0.1 px) add ~1 %.
-  const double sigma = cam.pixelScale();
+  const double sigma = sigma_px * cam.pixelScale();
   const CameraPrediction pred = offPrediction(s.q_ic, offset_sigmas * sigma, sigma);
   RecursiveIdOptions wide = options();
+  if (floor_px > 0) wide.centroid_sigma_px = floor_px;
   wide.detect.window_sigmas = 6.0;
   wide.gate_sigma = 50.0;
   RecursiveIdResult all;
   RecursiveIdentifier(test::simDatabase(), cam, wide).identify(s.frame.image, pred, all);
-  RecursiveIdOptions o = options();
-  o.detect.window_sigmas = 6.0;
+  RecursiveIdOptions o = wide;
+  o.gate_sigma = options().gate_sigma;
   RecursiveIdResult gated;
   RecursiveIdentifier(test::simDatabase(), cam, o).identify(s.frame.image, pred, gated);
   GateCount g;
@@ -101,6 +109,17 @@ TEST(RecursiveIdRules, GateRefusesAStar3point5SigmaOff) {
   EXPECT_GE(g.offered, 8);
   EXPECT_EQ(g.taken, 0);
   EXPECT_LT(g.max_d, 3.8);
+}
+
+// Attitude sigma, centroid floor and the stars' own centroid sigmas all ~0.015 px (these
+// simulated stars' are 0.003-0.03 px), where the gate's form matters: the paper's
+// H P H^T + C puts a star 4.7 attitude sigmas off at ~4.7 / sqrt(2) = 3.3 gate sigmas
+// (outside); with the floor counted as a third term (the code before issue 38's D3) it was
+// at up to 4.7 / sqrt(3) = 2.7 (taken). gateAt checks every star against the paper's distance.
+TEST(RecursiveIdRules, GateAtTheCentroidFloorIsThreeSqrtTwoSigmas) {
+  const GateCount g = gateAt(4.7, 0.015, 0.015);
+  EXPECT_GE(g.offered, 8);
+  EXPECT_LT(g.taken, g.offered / 2);  // most are refused: the scene straddles no other form
 }
 
 // ---- drop_saturated ----------------------------------------------------------------------
