@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "app/camera_flags.hpp"
+#include "catalog/database_recipe.hpp"
 #include "app/command.hpp"
 #include "common/output_file.hpp"
 #include "catalog/star_catalog.hpp"
@@ -40,7 +41,7 @@ struct CatalogBuildOptions {
   double epoch = 2025.0;
   bool no_aberration = false;
   bool no_parallax = false;
-  double double_star_arcsec = 10.0;
+  std::optional<double> double_star_arcsec;  // unset: kUnresolvedDoubleSepPx of the camera
   int per_region = 0;                    // 0 = no density reduction (said so in the help)
   std::optional<double> region_deg;      // unset: half the pair angle
   std::optional<double> neighbour_deg;   // unset: half the diagonal
@@ -63,8 +64,10 @@ void requireIn(const char* flag, double v, double lo, double hi, bool lo_open,
 }
 
 // The image diagonal the pair index must span, from the one camera option given; `how`
-// describes it for the log.
-double diagonalFov(const CatalogBuildOptions& o, std::string& how) {
+// describes it for the log; `pixel_scale` [rad/px] is set when the option gives one (not
+// --diagonal-fov-deg).
+double diagonalFov(const CatalogBuildOptions& o, std::string& how, double& pixel_scale) {
+  pixel_scale = 0;
   const int given = int(!o.camera.camera_file.empty()) + int(o.camera.fov_deg > 0) +
                     int(o.diagonal_fov_deg.has_value());
   if (given != 1)
@@ -85,6 +88,7 @@ double diagonalFov(const CatalogBuildOptions& o, std::string& how) {
     std::snprintf(b, sizeof b, "the %dx%d camera of %s: diagonal FOV %.3f deg", cam.width(),
                   cam.height(), o.camera.camera_file.c_str(), rad2deg(2 * cam.halfDiagonalFov()));
     how = b;
+    pixel_scale = cam.pixelScale();
     return 2 * cam.halfDiagonalFov();
   }
   requireIn("--fov-deg", o.camera.fov_deg, 0.1, 179.0, false);
@@ -108,6 +112,7 @@ double diagonalFov(const CatalogBuildOptions& o, std::string& how) {
   std::snprintf(b, sizeof b, "a %s %dx%d image of %.3f deg horizontal FOV: diagonal %.3f deg",
                 square ? "square" : "", w, h, o.camera.fov_deg, rad2deg(diag));
   how = b;
+  pixel_scale = cam.pixelScale();
   return diag;
 }
 
@@ -116,7 +121,8 @@ void checkNumbers(const CatalogBuildOptions& o) {
   requireIn("--margin-deg", o.margin_deg, 0.0, 10.0, false);
   requireIn("--mag-limit", o.mag_limit, -30.0, 30.0, false);
   requireIn("--epoch", o.epoch, 1000.0, 3000.0, false, "a Julian year, e.g. 2026.9");
-  requireIn("--double-star-arcsec", o.double_star_arcsec, 0.0, 3599.0, false, "0 = no merge");
+  if (o.double_star_arcsec)
+    requireIn("--double-star-arcsec", *o.double_star_arcsec, 0.0, 3599.0, false, "0 = no merge");
   if (o.per_region < 0)
     throw InputError("--per-region " + std::to_string(o.per_region) +
                      ": must be >= 1, or 0 for no density reduction");
@@ -131,7 +137,7 @@ void checkNumbers(const CatalogBuildOptions& o) {
               "the neighbour table cannot be empty; omit the option for half the diagonal");
 }
 
-DatabaseParams buildParams(const CatalogBuildOptions& o, double diag) {
+DatabaseParams buildParams(const CatalogBuildOptions& o, double diag, double pixel_scale) {
   DatabaseParams p{};
   p.max_pair_angle = diag + deg2rad(o.margin_deg);
   if (!(p.max_pair_angle < kPi))
@@ -140,7 +146,16 @@ DatabaseParams buildParams(const CatalogBuildOptions& o, double diag) {
   p.epoch_jyear = o.epoch;
   p.aberration = !o.no_aberration;
   p.parallax = !o.no_parallax;
-  p.double_star_sep = arcsec2rad(o.double_star_arcsec);
+  // One rule with solve and the trackers' databases: unresolved doubles, from the optics.
+  if (o.double_star_arcsec)
+    p.double_star_sep = arcsec2rad(*o.double_star_arcsec);
+  else if (pixel_scale > 0)
+    p.double_star_sep = kUnresolvedDoubleSepPx * pixel_scale;
+  else
+    throw InputError("--diagonal-fov-deg gives no pixel scale for the double-star merge: give "
+                     "--double-star-arcsec (" + num(kUnresolvedDoubleSepPx) +
+                     " px of the camera: stars closer are one image peak), or the camera with "
+                     "--fov-deg/--size or --camera");
   p.max_stars_per_region = o.per_region;
   p.region_radius = o.region_deg ? deg2rad(*o.region_deg) : p.max_pair_angle / 2;
   p.neighbour_radius = o.neighbour_deg ? deg2rad(*o.neighbour_deg) : diag / 2;
@@ -193,8 +208,9 @@ void printDatabase(const StarDatabase& db, const std::string& path) {
 int runBuild(const CatalogBuildOptions& o) {
   checkNumbers(o);
   std::string how;
-  const double diag = diagonalFov(o, how);
-  const DatabaseParams p = buildParams(o, diag);
+  double pixel_scale = 0;
+  const double diag = diagonalFov(o, how, pixel_scale);
+  const DatabaseParams p = buildParams(o, diag, pixel_scale);
   refuseSameFile(o.out, "--output",
                  {{o.catalog_path, "--catalog"}, {o.camera.camera_file, "--camera"}});
   prepareOutputFile(o.out, "--output", o.force);
@@ -256,8 +272,9 @@ void addCatalogCommand(CLI::App& root, CommandRun& run) {
   build->add_flag("--no-aberration", o->no_aberration, "Do not apply annual aberration");
   build->add_flag("--no-parallax", o->no_parallax, "Do not apply annual parallax");
   build->add_option("--double-star-arcsec", o->double_star_arcsec,
-                    "Merge stars closer than this (0 = off) [arcsec]")
-      ->capture_default_str();
+                    "Merge stars closer than this (0 = off) [arcsec] (default: 1.5 px of the "
+                    "camera, the rule solve and the trackers use: closer stars are one image "
+                    "peak; needed with --diagonal-fov-deg)");
   build->add_option("--per-region", o->per_region,
                     "Uniform density: keep the N brightest per cone (0 = off)")
       ->capture_default_str();

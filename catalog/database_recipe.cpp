@@ -16,7 +16,7 @@ DatabaseParams databaseParams(const CameraDatabaseRecipe& r) {
   p.epoch_jyear = r.epoch_jyear;
   p.aberration = r.aberration;
   p.parallax = true;
-  p.double_star_sep = 1.5 * r.pixel_scale_rad;  // unresolved doubles: one image peak
+  p.double_star_sep = kUnresolvedDoubleSepPx * r.pixel_scale_rad;  // one image peak
   p.max_stars_per_region = 0;
   p.neighbour_radius = r.diagonal_fov_rad / 2;
   return p;

@@ -14,6 +14,10 @@
 
 namespace st {
 
+/// Stars closer than this many pixels are one image peak (seed 004 eq. 6.1/6.2): the one rule
+/// of the double-star merge, from the optics (the recipe, and `catalog build`'s default).
+constexpr double kUnresolvedDoubleSepPx = 1.5;
+
 struct CameraDatabaseRecipe {
   double diagonal_fov_rad = 0;  ///< the camera's full diagonal field of view
   double pixel_scale_rad = 0;   ///< [rad/px] the finest pixel scale

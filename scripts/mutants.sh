@@ -221,6 +221,14 @@ mutant mc-psf-width app/montecarlo/exp_magnitude_error.cpp \
   's/s.psf_sigma_px = kPsfWidthPx \/ 4;/s.psf_sigma_px = kPsfWidthPx \/ 2.3548200450309493;/' \
   "$APP st_test_app" 'SeedTables.*' \
   "seed 004 eq. 4.13: the PSF's sigma = psfWidth / 4 (read as the FWHM instead)"
+mutant triad-anchor-first sensors/attitude/triad.cpp \
+  's/      if \(obs\[k\].sigma < obs\[i1\].sigma\) i1 = k;/      if ((void)k, false) i1 = k;/' \
+  st_test_attitude 'TriadRules.*' \
+  "seed 001 TRIAD: the anchor is the most precise vector (issue 38 item 7; not the first listed)"
+mutant triad-second-first sensors/attitude/triad.cpp \
+  's/const double info = b1.cross\(obs\[k\].b\).squaredNorm\(\) \/ \(obs\[k\].sigma \* obs\[k\].sigma\);/const double info = 1.0 \/ (1.0 + double(k));/' \
+  st_test_attitude 'TriadRules.*' \
+  "seed 001 TRIAD: the second vector fixes the rotation about the anchor best (not the next listed)"
 
 # A mutant's expression: sed -E substitutions separated by @@ (code holds ';').
 applySed() {  # expr file [-i]

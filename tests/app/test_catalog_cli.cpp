@@ -12,6 +12,7 @@
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
 #include "sensors/camera/camera_model.hpp"
+#include "catalog/database_recipe.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace st {
@@ -97,8 +98,23 @@ TEST(CatalogCli, FovDegIsHorizontalAndTheTourDatabaseCoversTheTourCamera) {
   const double t3_diag = 2 * CameraModel::fromFov(1024, 768, deg2rad(11.4)).halfDiagonalFov();
   EXPECT_NEAR(StarDatabase::load(dir + "/t3.db").params().max_pair_angle, t3_diag + deg2rad(0.2),
               1e-12);
-  // The old meaning under its own name.
-  ASSERT_EQ(build("--diagonal-fov-deg 15 --mag-limit 5 -o " + dir + "/d.db", &out), 0) << out;
+  // The double-star merge from the optics, the rule of solve's and the trackers' databases
+  // (issue 38, D6: this default was a fixed 10"): 1.5 px of the camera.
+  const CameraModel t3 = CameraModel::fromFov(1024, 768, deg2rad(11.4));
+  EXPECT_NEAR(StarDatabase::load(dir + "/t3.db").params().double_star_sep,
+              1.5 * t3.pixelScale(), 1e-15);
+  CameraDatabaseRecipe recipe;
+  recipe.diagonal_fov_rad = t3_diag;
+  recipe.pixel_scale_rad = t3.pixelScale();
+  EXPECT_EQ(databaseParams(recipe).double_star_sep,
+            StarDatabase::load(dir + "/t3.db").params().double_star_sep);
+  // The old meaning under its own name; a diagonal gives no pixel scale, so the merge is asked.
+  EXPECT_EQ(build("--diagonal-fov-deg 15 --mag-limit 5 -o " + dir + "/d.db", &out), 2) << out;
+  EXPECT_TRUE(has(out, "give --double-star-arcsec")) << out;
+  ASSERT_EQ(build("--diagonal-fov-deg 15 --double-star-arcsec 10 --mag-limit 5 -o " + dir + "/d.db",
+                  &out),
+            0)
+      << out;
   EXPECT_NEAR(StarDatabase::load(dir + "/d.db").params().max_pair_angle, deg2rad(15.2), 1e-12);
 
   // solve with the tour database and a camera of the tour's kind: no warning.
