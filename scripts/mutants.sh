@@ -218,7 +218,7 @@ mutant hit-psf-cluster sensors/detect/radiation_hits.cpp \
   "$DT $ID" 'RadiationHits.*:InflightLis.*' \
   "issue 34: the frame's PSF is the largest tight cluster of blob widths (not all blobs' median)"
 mutant mc-psf-width app/montecarlo/exp_magnitude_error.cpp \
-  's/s.psf_sigma_px = kPsfWidthPx \/ 4;/s.psf_sigma_px = kPsfWidthPx \/ 2.3548200450309493;/' \
+  's/s.psf_sigma_px = seed004PsfSigma\(kPsfWidthPx\);/s.psf_sigma_px = kPsfWidthPx \/ 2.3548200450309493;/' \
   "$APP st_test_app" 'SeedTables.*' \
   "seed 004 eq. 4.13: the PSF's sigma = psfWidth / 4 (read as the FWHM instead)"
 mutant triad-anchor-first sensors/attitude/triad.cpp \

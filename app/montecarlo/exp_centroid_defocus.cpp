@@ -14,6 +14,7 @@
 #include "app/montecarlo/stats.hpp"
 #include "common/errors.hpp"
 #include "sensors/detect/centroider.hpp"
+#include "app/montecarlo/seed004_psf.hpp"
 #include "sensors/sim/psf.hpp"
 #include "sensors/sim/sensor_params.hpp"
 
@@ -22,29 +23,29 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// "psfWidth" read as the FWHM of the Gaussian PSF (seed 004 Tables 4.1, 7.1: 10 px).
-constexpr double kFwhmPerSigma = 2.3548200450309493;
-const std::vector<double> kFwhm = {1, 2, 3, 4, 5, 6, 8, 10, 12, 15};
+// PSF widths: seed 004's psfWidth, 4 sigma of the Gaussian PSF (eq. 4.13; Tables 4.1, 7.1:
+// 10 px), the x axis of Figs. 4.4-4.5.
+const std::vector<double> kPsfWidths = {1, 2, 3, 4, 5, 6, 8, 10, 12, 15};
 // SNR as seed 004 ch. 3 counts it, per pixel: the star's peak pixel (centred) over the
 // background noise. 0 = no noise (Fig. 4.4).
 const std::vector<double> kSnr = {0, 1, 3, 10, 30};
 const std::vector<std::string> kCentroiders = {"cog", "gauss"};
 // Table 4.1's camera: gain 10 e-/ADU, t 0.1 s, a = 3.14e-4 m^2 (D = 20 mm), DK 41 e-,
 // RO 40 e-, psfWidth 10 px, M_V 1..5.
-constexpr double kTableFwhm = 10, kGain = 10, kDarkE = 41, kReadE = 40;
+constexpr double kTablePsfWidth = 10, kGain = 10, kDarkE = 41, kReadE = 40;
 const std::vector<double> kTableMags = {1, 2, 3, 4, 5};
 constexpr double kBackgroundAdu = 100;
 
 struct Case {
   std::string kind;  ///< "fig" (Figs. 4.4-4.5) or "table" (Table 4.2)
-  double fwhm, snr, mag;
+  double psf_width, snr, mag;
 };
 
 std::vector<Case> cases() {
   std::vector<Case> c;
   for (double s : kSnr)
-    for (double w : kFwhm) c.push_back({"fig", w, s, NAN});
-  for (double m : kTableMags) c.push_back({"table", kTableFwhm, NAN, m});
+    for (double w : kPsfWidths) c.push_back({"fig", w, s, NAN});
+  for (double m : kTableMags) c.push_back({"table", kTablePsfWidth, NAN, m});
   return c;
 }
 
@@ -55,7 +56,7 @@ class CentroidDefocus : public Experiment {
   bool usesFieldStop() const override { return false; }
   void configure(McOptions&) const override {}
   std::vector<std::string> columns(const McOptions&) const override {
-    return {"trial", "kind", "fwhm_px", "snr", "mag", "centroider", "ok", "dx_px", "dy_px", "us"};
+    return {"trial", "kind", "psf_width_px", "snr", "mag", "centroider", "ok", "dx_px", "dy_px", "us"};
   }
   void prepare(const McOptions&) override {}
 
@@ -73,7 +74,7 @@ class CentroidDefocus : public Experiment {
         std::uniform_real_distribution<double> u(0.0, 1.0);
         std::normal_distribution<double> g(0.0, 1.0);
         for (const Case& c : cases()) {
-          const double sigma = c.fwhm / kFwhmPerSigma;
+          const double sigma = seed004PsfSigma(c.psf_width);
           const int half = std::max(3, static_cast<int>(std::ceil(3 * sigma)));
           const int side = 2 * half + 1;
           // The star near the window's centre pixel, anywhere within it.
@@ -111,7 +112,7 @@ class CentroidDefocus : public Experiment {
             const auto t0 = Clock::now();
             const bool ok = cents[k]->centroid(p, out);
             const double us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-            rows.push_back({std::to_string(trial), c.kind, fmt(c.fwhm, 4), fmt(c.snr, 4),
+            rows.push_back({std::to_string(trial), c.kind, fmt(c.psf_width, 4), fmt(c.snr, 4),
                             fmt(c.mag, 3), kCentroiders[k], ok ? "1" : "0",
                             fmt(ok ? out.px.x() - truth.x() : NAN, 6),
                             fmt(ok ? out.px.y() - truth.y() : NAN, 6), fmt(us, 4)});
@@ -130,14 +131,14 @@ class CentroidDefocus : public Experiment {
         "over the pixels, measured on a +-max(3, 3 sigma) px window around the pixel of the "
         "window centre by `cog` (intensity-weighted centre of gravity, the seed's weighted "
         "sum) and `gauss` (maximum-likelihood fit of the PSF, the seed's MLE). PSF width = "
-        "FWHM; SNR = the peak pixel of a centred star over the background noise per pixel "
+        "seed 004's psfWidth, 4 sigma of the Gaussian (eq. 4.13); SNR = the peak pixel of a centred star over the background noise per pixel "
         "(10 ADU), star shot noise at 10 e-/ADU; SNR 0 = no noise (Fig. 4.4, star of peak "
         "100 ADU). Error = radial RMS of (estimate - truth) over the trials that gave a "
         "centroid. Table 4.2 rows: the camera of seed 004 Table 4.1 (D = 20 mm, t = 0.1 s, "
         "dark 41 e-, read 40 e-, gain 10 e-/ADU, psfWidth 10 px) with this project's "
         "photometry (sensors/sim/sensor_params.hpp, eq. 3.4). Times are one call of the "
         "centroider, median, on this machine (" + std::to_string(o.runs) + " trials).");
-    const std::size_t ck = t.col("kind"), cw = t.col("fwhm_px"), cs = t.col("snr"),
+    const std::size_t ck = t.col("kind"), cw = t.col("psf_width_px"), cs = t.col("snr"),
                       cm = t.col("mag"), cc = t.col("centroider"), co = t.col("ok"),
                       cx = t.col("dx_px"), cy = t.col("dy_px"), cu = t.col("us");
     struct Acc {
@@ -160,22 +161,22 @@ class CentroidDefocus : public Experiment {
 
     ReportTable fig;
     fig.name = "accuracy";
-    fig.caption = "Figs. 4.4-4.5: radial RMS centroid error [px] vs PSF width (FWHM) and SNR";
-    fig.table.columns = {"snr", "fwhm_px", "centroider", "trials", "ok_%", "rms_px", "median_us"};
+    fig.caption = "Figs. 4.4-4.5: radial RMS centroid error [px] vs PSF width (psfWidth = 4 sigma) and SNR";
+    fig.table.columns = {"snr", "psf_width_px", "centroider", "trials", "ok_%", "rms_px", "median_us"};
     ReportTable knee;
     knee.name = "knee";
     knee.caption = "Best defocus per SNR: the narrowest PSF within 10 % of the smallest error (widths where >= 95 % of the stars gave a centroid)";
-    knee.table.columns = {"snr", "centroider", "fwhm_min_error_px", "min_rms_px", "fwhm_knee_px", "rms_at_knee_px"};
+    knee.table.columns = {"snr", "centroider", "width_min_error_px", "min_rms_px", "width_knee_px", "rms_at_knee_px"};
     std::vector<ReportPlot> plots;
     for (const std::string& cen : kCentroiders) {
-      Plot p = makePlot("Centroid error vs PSF width, " + cen, "PSF FWHM [px]", "radial RMS error [px]");
+      Plot p = makePlot("Centroid error vs PSF width, " + cen, "PSF width, 4 sigma [px]", "radial RMS error [px]");
       p.log_y = true;
       for (double s : kSnr) {
         PlotSeries ser(s > 0 ? "SNR " + fmt(s, 3) : "no noise", PlotStyle::LinesPoints);
         // Only widths where nearly every star gave a centroid: an error averaged over the few
         // that converged says nothing about the width.
         std::vector<std::pair<double, double>> curve;
-        for (double w : kFwhm) {
+        for (double w : kPsfWidths) {
           const auto it = acc.find({"fig", w, s, -1, cen});
           if (it == acc.end()) continue;
           const Acc& a = it->second;
@@ -199,13 +200,13 @@ class CentroidDefocus : public Experiment {
     }
     ReportTable tab;
     tab.name = "table4_2";
-    tab.caption = "Table 4.2: centroider time and error per magnitude (Table 4.1 camera, FWHM 10 px)";
+    tab.caption = "Table 4.2: centroider time and error per magnitude (Table 4.1 camera, psfWidth 10 px = 4 sigma)";
     tab.table.columns = {"V", "centroider", "trials", "ok_%", "rms_px", "median_us", "time_ratio_to_cog"};
     for (double m : kTableMags) {
-      const auto base = acc.find({"table", kTableFwhm, -1, m, "cog"});
+      const auto base = acc.find({"table", kTablePsfWidth, -1, m, "cog"});
       const double base_us = base == acc.end() ? NAN : quantile(base->second.us, 0.5);
       for (const std::string& cen : kCentroiders) {
-        const auto it = acc.find({"table", kTableFwhm, -1, m, cen});
+        const auto it = acc.find({"table", kTablePsfWidth, -1, m, cen});
         if (it == acc.end()) continue;
         const Acc& a = it->second;
         const double us = quantile(a.us, 0.5);

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <map>
 
+#include "app/montecarlo/seed004_psf.hpp"
 #include "app/montecarlo/experiments.hpp"
 #include "app/montecarlo/stats.hpp"
 #include "common/errors.hpp"
@@ -50,7 +51,7 @@ SensorParams tableCamera() {
   s.qe = 1;
   s.v0_photon_flux = 0.12 * std::pow(10.0, 28 / 2.5);
   s.exposure_s = 0.1;
-  s.psf_sigma_px = kPsfWidthPx / 4;
+  s.psf_sigma_px = seed004PsfSigma(kPsfWidthPx);
   s.sky_e_px_s = 0;
   s.dark_current_e_px_s = 40 / s.exposure_s;  // DK = 40 e-
   s.read_noise_e = 410 * s.exposure_s;        // RO = 410 t_shutter e-

@@ -31,8 +31,9 @@ using test::readCsvCells;
 /// (peak `snr` x 10 ADU, background noise 10 ADU, 10 e-/ADU shot noise), as the experiment
 /// draws it, averaged over sub-pixel positions: the Fisher information of x (the y one
 /// equals it) is sum over pixels of (d mu / d x)^2 / var.
-double cramerRaoRadial(double fwhm, double snr) {
-  const double sigma = fwhm / 2.3548200450309493, sbg = 10, gain = 10;
+double cramerRaoRadial(double psf_width, double snr) {
+  // Seed 004's psfWidth is 4 sigma (eq. 4.13): the experiment's PSF, computed here apart.
+  const double sigma = psf_width / 4, sbg = 10, gain = 10;
   const double flux = snr * sbg * 2 * M_PI * sigma * sigma;
   const int side = 2 * std::max(3, static_cast<int>(std::ceil(3 * sigma))) + 1;
   double var_sum = 0;
@@ -62,14 +63,14 @@ TEST(MontecarloCentroid, MatchesTheoryAndTheSeedsOrdering) {
   std::string out;
   ASSERT_EQ(test::runCommand(test::startrackerExe() + " montecarlo centroid-defocus --runs 1000 "
                              "--seed 3 --no-plots -q --out " + dir, &out), 0) << out;
-  std::map<std::string, double> rms;  // "snr/fwhm/centroider"
+  std::map<std::string, double> rms;  // "snr/psf width/centroider"
   for (const auto& r : readCsvCells(dir + "/centroid-defocus_accuracy.csv"))
     if (r.size() >= 6 && r[0] != "snr") rms[r[0] + "/" + r[1] + "/" + r[2]] = std::stod(r[5]);
   ASSERT_FALSE(rms.empty());
   for (const char* w : {"3", "5", "10"}) {
     const double crb = cramerRaoRadial(std::stod(w), 10);
     const double got = rms.at(std::string("10/") + w + "/gauss");
-    std::printf("gauss, SNR 10, FWHM %s px: RMS %.4f px, Cramer-Rao %.4f px, ratio %.3f\n", w,
+    std::printf("gauss, SNR 10, psfWidth %s px: RMS %.4f px, Cramer-Rao %.4f px, ratio %.3f\n", w,
                 got, crb, got / crb);
     EXPECT_GE(got / crb, 0.95);
     EXPECT_LE(got / crb, 1.10);
