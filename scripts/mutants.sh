@@ -4,10 +4,15 @@
 # runs the named tests and reports which one kills it (KILLED by X) or SURVIVED. A mutant that
 # does not compile counts as a failure of this script (it would prove nothing).
 #
-# Usage: scripts/mutants.sh [--check] [--md FILE] [NAME...]
+# Usage: scripts/mutants.sh [--check] [--check-table FILE] [--md FILE] [NAME...]
 #   --check   only check that every mutant's sed expression still changes its file (no build;
 #             ctest `mutants_expressions_match` runs this so the table does not rot)
-#   --md FILE write the result table as Markdown (docs/mutants.md) with the date and commit
+#   --check-table FILE
+#             refuse a table (docs/mutants.md) with a row older than the file it mutates, a
+#             mutant without a row, or a survivor (no build; exit 1, naming each)
+#   --md FILE write the result table as Markdown (docs/mutants.md); each row records the
+#             commit it was measured at. With NAME... only those rows are replaced, the others
+#             kept. Needs a committed tree (the rows must name what they measured).
 #   NAME...   run only these mutants
 # Exit status: 0 when every mutant is killed (or, with --check, every expression matches).
 # Slow (a rebuild per mutant): not part of CI; run it with nice -n 10. The scratch copy lives
@@ -15,13 +20,15 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 CHECK=0
+CHECK_TABLE=""
 MD=""
 ONLY=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --check) CHECK=1 ;;
+    --check-table) CHECK_TABLE="$2"; shift ;;
     --md) MD="$2"; shift ;;
-    -h|--help) sed -n 2,14p "$0"; exit 0 ;;
+    -h|--help) sed -n 2,19p "$0"; exit 0 ;;
     -*) echo "mutants.sh: unknown option '$1'" >&2; exit 2 ;;
     *) ONLY+=("$1") ;;
   esac
@@ -268,6 +275,41 @@ if [[ $CHECK -eq 1 ]]; then
   exit $bad
 fi
 
+# ---- the table's rows: "| `name` | rule | `file` | result | `commit` |" ---------------------
+rowOf() {  # table name -> the row's line, or nothing
+  grep -E "^\| \`$2\` \|" "$1" | head -1 || true
+}
+rowField() {  # line k -> the k-th cell (1-based), trimmed
+  printf '%s\n' "$1" | awk -F' [|] ' -v k="$2" '{ v = $k; gsub(/^[|] |`| [|]$/, "", v); print v }'
+}
+
+# ---- --check-table: every row measured after the last change of the file it mutates ---------
+if [[ -n "$CHECK_TABLE" ]]; then
+  [[ -f "$CHECK_TABLE" ]] || { echo "mutants.sh: $CHECK_TABLE: no such table" >&2; exit 2; }
+  bad=0
+  for i in "${!NAMES[@]}"; do
+    name="${NAMES[$i]}" file="${FILES[$i]}"
+    row="$(rowOf "$CHECK_TABLE" "$name")"
+    if [[ -z "$row" ]]; then echo "$name: no row in $CHECK_TABLE"; bad=1; continue; fi
+    result="$(rowField "$row" 4)" at="$(rowField "$row" 5)"
+    if [[ "$result" != KILLED* ]]; then echo "$name: $result"; bad=1; continue; fi
+    if ! git -C "$ROOT" rev-parse -q --verify "$at^{commit}" >/dev/null; then
+      echo "$name: the row names no commit ('$at')"; bad=1; continue
+    fi
+    last="$(git -C "$ROOT" log -1 --format=%h -- "$file")"
+    if [[ -n "$last" ]] && ! git -C "$ROOT" merge-base --is-ancestor "$last" "$at"; then
+      echo "$name: stale: $file changed at $last, after the row's commit $at"; bad=1
+    fi
+  done
+  [[ $bad -eq 0 ]] && echo "all ${#NAMES[@]} rows of $CHECK_TABLE killed, none older than its file"
+  exit $bad
+fi
+
+if [[ -n "$MD" ]] && ! git -C "$ROOT" diff --quiet HEAD; then
+  echo "mutants.sh: --md needs a committed tree: each row records the commit it measured" >&2
+  exit 2
+fi
+
 # ---- the scratch copy ------------------------------------------------------------------------
 # The copy keeps the tree's layout (sources at the top, build/ inside) so that ccache, with
 # base_dir=/work, sees the same relative paths as in the tree's own build and hits.
@@ -334,7 +376,7 @@ for i in "${!NAMES[@]}"; do
     survived=$((survived + 1))
   fi
   printf '%-32s %s\n' "$name" "$result"
-  ROWS+=("| \`$name\` | ${RULES[$i]} | \`$file\` | $result |")
+  ROWS+=("| \`$name\` | ${RULES[$i]} | \`$file\` | $result | \`${commit%% *}\` |")
 done
 # Leave the scratch build unmutated (the next run starts from it).
 for t in $(printf '%s\n' "${TARGETS[@]}" | tr ' ' '\n' | sort -u); do
@@ -342,20 +384,37 @@ for t in $(printf '%s\n' "${TARGETS[@]}" | tr ' ' '\n' | sort -u); do
 done
 
 if [[ -n "$MD" ]]; then
+  # Rows of this run replace theirs; the other mutants keep the row (and commit) of the run
+  # that measured them; a mutant never run says so (--check-table refuses it).
+  declare -A NEW=()
+  for r in "${ROWS[@]}"; do NEW["$(rowField "$r" 1)"]="$r"; done
+  FINAL=()
+  survived=0
+  for i in "${!NAMES[@]}"; do
+    name="${NAMES[$i]}"
+    if [[ -n "${NEW[$name]:-}" ]]; then r="${NEW[$name]}"
+    elif [[ -f "$MD" && -n "$(rowOf "$MD" "$name")" ]]; then r="$(rowOf "$MD" "$name")"
+    else r="| \`$name\` | ${RULES[$i]} | \`${FILES[$i]}\` | not run | - |"
+    fi
+    [[ "$(rowField "$r" 4)" == KILLED* ]] || survived=$((survived + 1))
+    FINAL+=("$r")
+  done
   {
     echo "# Mutants: does a test notice when a paper's rule is removed?"
     echo
-    echo "Generated by \`scripts/mutants.sh --md docs/mutants.md\` on $(date -u +%Y-%m-%d) at commit"
-    echo "\`${commit%% *}\`${commit#"${commit%% *}"}."
+    echo "Generated by \`scripts/mutants.sh --md docs/mutants.md [NAME...]\`, last on $(date -u +%Y-%m-%d)"
+    echo "at commit \`${commit%% *}\`; each row names the commit it was measured at, and"
+    echo "\`scripts/mutants.sh --check-table docs/mutants.md\` refuses a row older than the last"
+    echo "change of the file it mutates (issue 38, D4)."
     echo "Each mutant is a sed expression in the script applied to a scratch copy of the tree;"
     echo "the test executable named there is rebuilt and the tests of the filter are run. A mutant"
     echo "is killed when at least one of them fails."
     echo
-    echo "| mutant | rule removed or broken | file | result |"
-    echo "|---|---|---|---|"
-    printf '%s\n' "${ROWS[@]}"
+    echo "| mutant | rule removed or broken | file | result | commit |"
+    echo "|---|---|---|---|---|"
+    printf '%s\n' "${FINAL[@]}"
     echo
-    echo "$survived of ${#ROWS[@]} mutants survived."
+    echo "$survived of ${#FINAL[@]} mutants not killed (survived or not run)."
     cat <<'EOF'
 
 ## How the identification rules are seen without the verification's rescue
