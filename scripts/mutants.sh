@@ -322,7 +322,11 @@ commit="$(git -C "$ROOT" rev-parse --short HEAD)$(git -C "$ROOT" diff --quiet HE
 echo "copying the tree to $SRC"
 (cd "$ROOT" && tar --exclude='./build*' --exclude='./.git' --exclude='./out' -cf - .) |
   (cd "$SRC" && tar -xf -)
-cmake -S "$SRC" -B "$BLD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
+# ccache when there is one (scripts/install-deps.sh does not install it: only this script
+# gains, and a machine without it just builds the copy in full).
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S "$SRC" -B "$BLD" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \
   -DST_SHARED_DATA_DIR="$ROOT/../shared/data" >/dev/null
 JOBS="${MUTANTS_JOBS:-2}"
 
