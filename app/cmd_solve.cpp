@@ -49,7 +49,7 @@ void addBatchOptions(CLI::App& cmd, solve::SolveOptions& o) {
                  "JSON Lines results file: one line per frame (the --json object), appended as "
                  "each frame finishes, so a killed run keeps what it did. With it the exit code "
                  "is the run's: 0 when every frame has its line, solved or not. An existing "
-                 "file is refused unless --resume. `solve merge PART... -o OUT [--files-from "
+                 "file is refused unless --resume (or -f). `solve merge PART... -o OUT [--files-from "
                  "LIST]` joins the parts of a sharded run, in the list's order");
   cmd.add_flag("-f,--force", o.force,
                "Replace existing output files: --annotate, --wcs, -o (without it an existing "

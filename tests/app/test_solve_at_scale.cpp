@@ -99,6 +99,22 @@ bool waitForLines(const std::string& path, std::size_t n, pid_t pid) {
   return false;
 }
 
+/// `startracker ARGS` in `dir`, sent `sig` once its results file r.jsonl holds `n` lines.
+struct Interrupted {
+  bool started = false;  ///< the file reached n lines before the run ended
+  int status = 0;        ///< waitpid's
+};
+Interrupted interruptAfterLines(const std::string& args, const std::string& dir, std::size_t n,
+                                int sig) {
+  Interrupted r;
+  const pid_t pid = startCli(args, dir);
+  EXPECT_GT(pid, 0);
+  r.started = waitForLines(dir + "/r.jsonl", n, pid);
+  kill(pid, sig);
+  waitpid(pid, &r.status, 0);
+  return r;
+}
+
 TEST(SolveAtScale, ShardsMergedAreTheSerialBatchApartFromTimings) {
   const std::string dir = archive("scale_shards", 1);
   const test::CliRun serial = test::runCli(kSolve + "--files-from list.txt -o serial.jsonl", dir);
@@ -138,14 +154,10 @@ TEST(SolveAtScale, ShardsMergedAreTheSerialBatchApartFromTimings) {
 TEST(SolveAtScale, ASigkilledRunResumedLosesAndRepeatsNoFrame) {
   const int copies = 60;  // 480 frames: the kill lands while most are still to do
   const std::string dir = archive("scale_kill", copies);
-  const pid_t pid = startCli(kSolve + "--files-from list.txt --threads 2 -o r.jsonl", dir);
-  ASSERT_GT(pid, 0);
-  const bool started = waitForLines(dir + "/r.jsonl", 20, pid);
-  kill(pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(started) << test::fileBytes(dir + "/stderr.txt");
-  ASSERT_TRUE(WIFSIGNALED(status));
+  const Interrupted k =
+      interruptAfterLines(kSolve + "--files-from list.txt --threads 2 -o r.jsonl", dir, 20, SIGKILL);
+  ASSERT_TRUE(k.started) << test::fileBytes(dir + "/stderr.txt");
+  ASSERT_TRUE(WIFSIGNALED(k.status));
   const std::size_t kept = lines(dir + "/r.jsonl").size();
   ASSERT_LT(kept, 8u * copies) << "the run ended before the kill: nothing was tested";
 
@@ -179,15 +191,11 @@ TEST(SolveAtScale, ASigkilledRunResumedLosesAndRepeatsNoFrame) {
 
 TEST(SolveAtScale, SigtermStopsBetweenFramesAndResumeFinishes) {
   const std::string dir = archive("scale_term", 60);
-  const pid_t pid = startCli(kSolve + "--files-from list.txt -o r.jsonl", dir);
-  ASSERT_GT(pid, 0);
-  const bool started = waitForLines(dir + "/r.jsonl", 10, pid);
-  kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(started);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const Interrupted t =
+      interruptAfterLines(kSolve + "--files-from list.txt -o r.jsonl", dir, 10, SIGTERM);
+  ASSERT_TRUE(t.started);
+  ASSERT_TRUE(WIFEXITED(t.status));
+  EXPECT_EQ(WEXITSTATUS(t.status), 130);
   const std::string err = test::fileBytes(dir + "/stderr.txt");
   EXPECT_THAT(err, HasSubstr("interrupted by SIGTERM after"));
   EXPECT_THAT(err, HasSubstr("--resume continues"));
