@@ -2,10 +2,12 @@
 // cone and rectangle (FOV) queries, database load.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <random>
 
+#include "catalog/best_fit_index.hpp"
 #include "catalog/star_catalog.hpp"
 #include "catalog/star_database.hpp"
 #include "common/conventions.hpp"
@@ -93,6 +95,58 @@ void BM_PairRangeQuery(benchmark::State& state) {
   state.counters["matches"] = benchmark::Counter(double(matches), benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_PairRangeQuery)->Arg(0)->Arg(10)->Arg(60);
+
+// Seed 000's three star-pair-ID techniques on one database (the 15 deg pairs), the same
+// queries of +-20" (2 epsilon at 10" centroids): the k-vector (two table reads), a binary
+// search (std::lower_bound / upper_bound), and the best-fit index (eqs. 7-10: a polynomial
+// guess and a local search) with the seed's line (Arg 1) and its 7th degree (Arg 7). The
+// time is the range alone (no match touched): what the seed compares.
+std::vector<double> pairThetas() {
+  std::vector<double> t;
+  for (const StarPair& p : db15().pairs()) t.push_back(p.theta);
+  return t;
+}
+std::vector<double> pairQueries() {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> th(deg2rad(0.5), deg2rad(14.5));
+  std::vector<double> q(4096);
+  for (double& t : q) t = th(rng);
+  return q;
+}
+template <class Range>
+void pairIndexLoop(benchmark::State& state, Range range) {
+  const std::vector<double> q = pairQueries();
+  const double d = arcsec2rad(20);
+  std::size_t i = 0, sink = 0;
+  for (auto _ : state) {
+    const double t = q[i++ & 4095];
+    const auto r = range(t - d, t + d);
+    sink += r.second - r.first;
+  }
+  benchmark::DoNotOptimize(sink);
+}
+void BM_PairIndexKVector(benchmark::State& state) {
+  const StarDatabase& db = db15();
+  pairIndexLoop(state, [&](double lo, double hi) {
+    const PairSlice s = db.pairsInRange(lo, hi);
+    return std::make_pair(std::size_t(0), std::size_t(s.size()));
+  });
+}
+BENCHMARK(BM_PairIndexKVector);
+void BM_PairIndexBinarySearch(benchmark::State& state) {
+  const std::vector<double> t = pairThetas();
+  pairIndexLoop(state, [&](double lo, double hi) {
+    return std::make_pair(std::size_t(std::lower_bound(t.begin(), t.end(), lo) - t.begin()),
+                          std::size_t(std::upper_bound(t.begin(), t.end(), hi) - t.begin()));
+  });
+}
+BENCHMARK(BM_PairIndexBinarySearch);
+void BM_PairIndexBestFit(benchmark::State& state) {
+  const BestFitIndex bf(pairThetas(), int(state.range(0)));
+  state.counters["max_index_error"] = double(bf.maxIndexError());
+  pairIndexLoop(state, [&](double lo, double hi) { return bf.range(lo, hi); });
+}
+BENCHMARK(BM_PairIndexBestFit)->Arg(1)->Arg(7);
 
 // Cone query of radius `state.range(0)` tenths of a degree.
 void BM_ConeQuery(benchmark::State& state) {
