@@ -236,6 +236,10 @@ mutant triad-second-first sensors/attitude/triad.cpp \
   's/const double info = b1.cross\(obs\[k\].b\).squaredNorm\(\) \/ \(obs\[k\].sigma \* obs\[k\].sigma\);/const double info = 1.0 \/ (1.0 + double(k));/' \
   st_test_attitude 'TriadRules.*' \
   "seed 001 TRIAD: the second vector fixes the rotation about the anchor best (not the next listed)"
+mutant pad-no-steps sensors/attitude/pad.cpp \
+  's/constexpr int kMaxSteps = 30;/constexpr int kMaxSteps = 0;/' \
+  st_test_attitude 'Pad.*:AllSolvers/WahbaSolverTest.*' \
+  "seed 004 eq. 6.13/6.9: PAD's model-error steps (without them it is its TRIAD start)"
 
 # A mutant's expression: sed -E substitutions separated by @@ (code holds ';').
 applySed() {  # expr file [-i]

@@ -13,7 +13,8 @@
   X("esoq2", makeEsoq2Solver, "ESOQ-2 (Mortari): rotation axis from the 3x3 null space, 180 deg frame turn") \
   X("svd", makeSvdSolver, "Markley's SVD of the attitude profile matrix B (most robust)")        \
   X("foam", makeFoamSolver, "FOAM (Markley): optimal matrix from B, det B and adj B without an SVD") \
-  X("lsq", makeLsqDcmSolver, "least-squares DCM (seed 001 eq. 31): 9 free elements, then the nearest rotation (not optimal; needs 3 independent vectors)")
+  X("lsq", makeLsqDcmSolver, "least-squares DCM (seed 001 eq. 31): 9 free elements, then the nearest rotation (not optimal; needs 3 independent vectors)") \
+  X("pad", makePadSolver, "Predictive Attitude Determination (seed 004 eq. 6.9-6.16): Gauss-Newton steps of the kinematic model error from TRIAD's attitude")
 // clang-format on
 
 namespace st {
