@@ -19,19 +19,14 @@ TEST(BestFitIndex, RangeEqualsBruteForceOnRandomData) {
   for (int degree : {1, 7})
     for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(2), std::size_t(17),
                           std::size_t(5000)}) {
-      std::vector<double> y(n);
       // Clustered values (two Gaussians + duplicates): a poor fit, a long search, still exact.
-      std::normal_distribution<double> g1(0.2, 0.01), g2(0.8, 0.2);
-      for (std::size_t i = 0; i < n; ++i) y[i] = (i % 3 == 0) ? g1(rng) : g2(rng);
-      for (std::size_t i = 1; i < n; i += 50) y[i] = y[i - 1];
-      std::sort(y.begin(), y.end());
+      const std::vector<double> y = test::clusteredSortedValues(n, rng);
       const BestFitIndex bf(y, degree);
       std::uniform_real_distribution<double> u(-0.5, 1.8), w(0, 0.2);
       for (int q = 0; q < 2000; ++q) {
         const double lo = u(rng), hi = lo + w(rng);
         const auto r = bf.range(lo, hi);
-        const std::size_t b = std::lower_bound(y.begin(), y.end(), lo) - y.begin();
-        const std::size_t e = std::upper_bound(y.begin(), y.end(), hi) - y.begin();
+        const auto [b, e] = test::bruteRange(y, lo, hi);
         if (b == e) {
           ASSERT_EQ(r.first, r.second);
         } else {

@@ -17,12 +17,8 @@ TEST(KVector, RangeEqualsBruteForceOnRandomData) {
   std::mt19937_64 rng(7);
   for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(2), std::size_t(17),
                         std::size_t(5000)}) {
-    std::vector<double> y(n);
     // Clustered values (two Gaussians + duplicates) stress the linear k-vector line.
-    std::normal_distribution<double> g1(0.2, 0.01), g2(0.8, 0.2);
-    for (std::size_t i = 0; i < n; ++i) y[i] = (i % 3 == 0) ? g1(rng) : g2(rng);
-    for (std::size_t i = 1; i < n; i += 50) y[i] = y[i - 1];
-    std::sort(y.begin(), y.end());
+    const std::vector<double> y = test::clusteredSortedValues(n, rng);
     KVector kv;
     auto at = [&](std::size_t k) { return y[k]; };
     kv.build(n, at);
@@ -30,8 +26,7 @@ TEST(KVector, RangeEqualsBruteForceOnRandomData) {
     for (int q = 0; q < 2000; ++q) {
       const double lo = u(rng), hi = lo + w(rng);
       const auto r = kv.range(lo, hi, at);
-      const std::size_t b = std::lower_bound(y.begin(), y.end(), lo) - y.begin();
-      const std::size_t e = std::upper_bound(y.begin(), y.end(), hi) - y.begin();
+      const auto [b, e] = test::bruteRange(y, lo, hi);
       if (b == e) {
         ASSERT_EQ(r.first, r.second);
       } else {
