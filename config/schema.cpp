@@ -1,11 +1,24 @@
 #include "config/schema.hpp"
 
+#include <cstdio>
+#include <cstdlib>
+
 #include <sstream>
 
 namespace st {
 
 std::string formatIniKey(const std::string& key, const std::string& value, const std::string& help) {
   return "# " + help + "\n" + key + " = " + value + "\n";
+}
+
+std::string formatIniNumberThrough(double shown, double stored,
+                                   const std::function<double(const double&)>& to) {
+  char buf[40];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, shown);
+    if (to(std::strtod(buf, nullptr)) == stored) return buf;
+  }
+  return formatIniNumber(shown);
 }
 
 void throwBadChoice(const IniReader& r, const std::string& sec, const std::string& key,

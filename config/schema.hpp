@@ -36,6 +36,11 @@ namespace st {
 /// whole-line comments).
 std::string formatIniKey(const std::string& key, const std::string& value, const std::string& help);
 /// Throws the InputError for a value of `key` outside `names`, suggesting the nearest name.
+/// `shown` with the fewest digits (6..17) whose conversion `to` gives `stored` back exactly
+/// (%.17g when none does).
+std::string formatIniNumberThrough(double shown, double stored,
+                                   const std::function<double(const double&)>& to);
+
 [[noreturn]] void throwBadChoice(const IniReader& r, const std::string& sec, const std::string& key,
                                  const std::string& value, const std::vector<std::string>& names);
 
@@ -118,6 +123,65 @@ class SectionSchema {
       t.*member = scale * r.num(s, key, 0.0);
     };
     keys_.back().printed = false;
+    return *this;
+  }
+
+  /// A key in its own unit bound to a member in another (datasheet deg/sqrt(h) into the
+  /// filter's rad/sqrt(s), yaw-pitch-roll degrees into a rotation matrix): read as V, stored
+  /// as `to(v)`; printed as `from(member)`, and for numbers with the fewest digits whose
+  /// conversion gives the member back exactly (so the printed file reads back to the same
+  /// filter). range() after it bounds the value in the key's unit.
+  template <class V, class M>
+  SectionSchema& converted(const std::string& key, M T::*member, std::function<M(const V&)> to,
+                           std::function<V(const M&)> from, const std::string& help) {
+    Key k;
+    k.name = key;
+    k.help = help;
+    k.present = [key](const IniReader& r, const std::string& s) { return IniCodec<V>::present(r, s, key); };
+    k.read = [key, member, to, from](const IniReader& r, const std::string& s, T& t) {
+      V v = from(t.*member);
+      IniCodec<V>::read(r, s, key, v);
+      t.*member = to(v);
+    };
+    k.write = [member, to, from](const T& t) {
+      if constexpr (std::is_same_v<V, double> && std::is_same_v<M, double>)
+        return formatIniNumberThrough(from(t.*member), t.*member, to);
+      else
+        return IniCodec<V>::write(from(t.*member));
+    };
+    if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>)
+      k.number = [member, from](const T& t) { return static_cast<double>(from(t.*member)); };
+    keys_.push_back(std::move(k));
+    return *this;
+  }
+
+  /// A string key naming an enum member's values (`names`: the key's text -> the value);
+  /// another text is an error with a suggestion.
+  template <class E>
+  SectionSchema& mapped(const std::string& key, E T::*member,
+                        std::vector<std::pair<std::string, E>> names, const std::string& help) {
+    std::vector<std::string> texts;
+    for (const auto& [text, value] : names) texts.push_back(text);
+    Key k;
+    k.name = key;
+    k.help = help + " (" + join(texts, " | ") + ")";
+    k.present = [key](const IniReader& r, const std::string& s) { return IniCodec<std::string>::present(r, s, key); };
+    k.read = [key, member, names, texts](const IniReader& r, const std::string& s, T& t) {
+      std::string v;
+      IniCodec<std::string>::read(r, s, key, v);
+      for (const auto& [text, value] : names)
+        if (v == text) {
+          t.*member = value;
+          return;
+        }
+      throwBadChoice(r, s, key, v, texts);
+    };
+    k.write = [member, names](const T& t) {
+      for (const auto& [text, value] : names)
+        if (t.*member == value) return text;
+      throw std::logic_error("a mapped key's member holds a value without a name");
+    };
+    keys_.push_back(std::move(k));
     return *this;
   }
 

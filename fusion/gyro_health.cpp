@@ -9,7 +9,6 @@ namespace st {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMedianAbsNormal = 0.6745;  // median |N(0, 1)|
 const char* const kAxis[] = {"x", "y", "z"};
 

@@ -33,6 +33,7 @@
 #include <string>
 
 #include "common/attitude.hpp"
+#include "common/conventions.hpp"
 
 namespace st {
 
@@ -40,7 +41,7 @@ struct GyroHealthOptions {
   bool enabled = true;
   /// [rad/s^2] the body's largest angular acceleration (10 deg/s^2: far above a star
   /// tracker's slews and jitter; 0.7 deg/s^2 in the fault scenarios' jitter).
-  double max_angular_accel_rad_s2 = 10.0 * 3.14159265358979323846 / 180.0;
+  double max_angular_accel_rad_s2 = deg2rad(10.0);
   double spike_sigmas = 10.0;
   int median_of = 5;    ///< accepted samples whose median a sample is compared with
   int step_after = 3;   ///< flagged samples in a row that agree: a real rate step

@@ -33,9 +33,9 @@ const char* toString(MekfStep::Event e) {
 MekfOptions MekfOptions::fromDatasheet(double arw_deg_rt_h, double rrw_deg_h_rt_h,
                                        double initial_bias_sigma_deg_h) {
   MekfOptions o;
-  o.arw_rad_rt_s = arw_deg_rt_h * kRadPerDeg / 60.0;  // sqrt(h) = 60 sqrt(s)
-  o.rrw_rad_s_rt_s = rrw_deg_h_rt_h * kRadPerDeg / 3600.0 / 60.0;
-  o.initial_bias_sigma_rad_s = initial_bias_sigma_deg_h * kRadPerDeg / 3600.0;
+  o.arw_rad_rt_s = gyro_units::arwToFilter(arw_deg_rt_h);
+  o.rrw_rad_s_rt_s = gyro_units::rrwToFilter(rrw_deg_h_rt_h);
+  o.initial_bias_sigma_rad_s = gyro_units::biasToFilter(initial_bias_sigma_deg_h);
   return o;
 }
 

@@ -37,11 +37,26 @@
 #include <vector>
 
 #include "common/attitude.hpp"
+#include "common/conventions.hpp"
 
 namespace st {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+/// A gyro's datasheet units and the filter's, one place for both directions (fromDatasheet,
+/// the [filter] keys of tracker.ini and the live .ini).
+namespace gyro_units {
+/// Angle random walk: [deg/sqrt(h)] <-> [rad/sqrt(s)] (sqrt(h) = 60 sqrt(s)).
+inline double arwToFilter(double deg_rt_h) { return deg_rt_h * kRadPerDeg / 60.0; }
+inline double arwToDatasheet(double rad_rt_s) { return rad_rt_s * 60.0 / kRadPerDeg; }
+/// Rate random walk: [deg/h/sqrt(h)] <-> [rad/s/sqrt(s)].
+inline double rrwToFilter(double deg_h_rt_h) { return deg_h_rt_h * kRadPerDeg / 3600.0 / 60.0; }
+inline double rrwToDatasheet(double rad_s_rt_s) { return rad_s_rt_s * 60.0 * 3600.0 / kRadPerDeg; }
+/// Bias: [deg/h] <-> [rad/s].
+inline double biasToFilter(double deg_h) { return deg_h * kRadPerDeg / 3600.0; }
+inline double biasToDatasheet(double rad_s) { return rad_s * 3600.0 / kRadPerDeg; }
+}  // namespace gyro_units
 
 struct MekfOptions {
   /// kGyro: state (q, gyro bias), propagated with gyro samples. kGyroless: state (q, body
@@ -51,7 +66,7 @@ struct MekfOptions {
   /// kGyroless: spectral density sw of the rate random walk [rad/s^2/sqrt(Hz)]: over T
   /// seconds the body rate wanders by sw sqrt(T) (1-sigma per axis).
   double rate_walk_rad_s2_rt_hz = 1e-3;
-  double initial_rate_sigma_rad_s = 0.035;  ///< kGyroless: prior 1-sigma of the rate [rad/s]
+  double initial_rate_sigma_rad_s = 2.0 * kRadPerDeg;  ///< kGyroless: prior 1-sigma of the rate [rad/s] (2 deg/s)
   double arw_rad_rt_s = 0;                 ///< sigma_v: angle random walk [rad/sqrt(s)]
   double rrw_rad_s_rt_s = 0;               ///< sigma_u: rate random walk [rad/s^1.5]
   double initial_bias_sigma_rad_s = 1e-5;  ///< per-axis prior 1-sigma of the bias [rad/s]

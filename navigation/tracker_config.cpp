@@ -42,10 +42,8 @@ NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
                                       const std::string& source, bool* enabled) {
   const IniReader r{cfg, source};
   const LiveIniKeys k = readLiveIni(r);
-  NavigatorOptions o;
-  applyFusionKeys(r, k.filter, k.navigator, o);
   *enabled = k.navigator.enabled;
-  return o;
+  return k.navigator.nav;
 }
 
 bool isTrackerIni(const IniReader& r) { return iniKind(r) == "a tracker file"; }
@@ -54,10 +52,7 @@ TrackerIniKeys readTrackerIni(const IniReader& r) {
   requireIniKind(r, "a tracker file", "replay --config");
   r.onlySections(trackerIniSections(), "a tracker file");
   TrackerIniKeys k;
-  k.navigator = NavigatorIniKeys::of(k.nav);
-  filterIniSchema().read(r, "filter", k.filter);
-  navigatorIniSchema(false).read(r, "navigator", k.navigator);
-  applyFusionKeys(r, k.filter, k.navigator, k.nav);
+  readFusionSections(r, k.nav);
   readPipelineOptions(r, "pipeline", k.nav.pipeline);
   std::string why;
   if (!k.nav.isValid(&why)) throw InputError(r.source + ": " + why);
@@ -71,8 +66,7 @@ TrackerIniKeys readTrackerIni(const IniReader& r) {
 }
 
 std::string printTrackerIni(const TrackerIniKeys& k) {
-  std::string s = filterIniSchema().print("filter", k.filter) + "\n" +
-                  navigatorIniSchema(false).print("navigator", k.navigator) + "\n" +
+  std::string s = printFusionSections(k.nav) + "\n" +
                   pipelineIniSchema().print("pipeline", k.nav.pipeline) + "\n" +
                   databaseIniSchema().print("database", k.database);
   if (k.camera) s += "\n" + cameraIniSchema().print("camera", *k.camera);

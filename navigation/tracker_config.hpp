@@ -55,9 +55,7 @@ NavigatorOptions liveNavigatorOptions(const mrpt::config::CConfigFileBase& cfg,
 
 /// tracker.ini's sections as written (paths unresolved), read strictly and checked.
 struct TrackerIniKeys {
-  FilterIniKeys filter;
-  NavigatorIniKeys navigator;
-  NavigatorOptions nav;  ///< the options they give, [pipeline] included
+  NavigatorOptions nav;  ///< [filter], [navigator] and [pipeline], bound directly
   DatabaseSource database;
   std::optional<CameraIniKeys> camera;
 };

@@ -20,10 +20,9 @@ std::string replayConfigText(const CStarTrackerSensor& tracker, const LiveIniKey
     return p.empty() ? p : fs::absolute(p).lexically_normal().string();
   };
   TrackerIniKeys k;
-  k.filter = live.filter;
-  k.navigator = live.navigator;
+  k.nav = live.navigator.nav;
   // Replay runs the tracker itself on the recorded frames, found under the tracker's label.
-  k.navigator.camera_label = tracker.imageLabel();
+  k.nav.camera_label = tracker.imageLabel();
   k.nav.pipeline = tracker.pipelineOptions();
   const CStarTrackerSensor::DatabaseBuild& b = tracker.databaseBuild();
   k.database.path = absolute(b.file);
