@@ -455,6 +455,50 @@ TEST(NavigatorConfig, ReadsTrackerIniAndNamesBadKeys) {
   EXPECT_NE(message("[database]\naberration = maybe\n").find("aberration"), std::string::npos);
 }
 
+// Issue 36 item 5: the fusion keys bound directly to the loop's options, units converted at
+// the edge. What a file says is what the filter gets, the printed configuration says it in the
+// file's units with the fewest digits, and reads back to the very same options.
+TEST(NavigatorConfig, FusionKeysConvertAtTheEdgeAndReadBackExactly) {
+  mrpt::config::CConfigFileMemory cfg(
+      "[filter]\narw_deg_rt_h = 0.123\nrrw_deg_h_rt_h = 0.77\nbias_sigma_deg_h = 3.3\n"
+      "model = gyroless\nrate_sigma_deg_s = 1.7\n"
+      "[navigator]\ngyro_max_accel_deg_s2 = 7.5\ngyro_mount_ypr_deg = 10 -20 30\n");
+  const TrackerIniKeys k = readTrackerIni(IniReader{cfg, "t.ini"});
+  const FusionOptions& f = k.nav.fusion;
+  EXPECT_EQ(f.filter.arw_rad_rt_s, gyro_units::arwToFilter(0.123));
+  EXPECT_EQ(f.filter.rrw_rad_s_rt_s, gyro_units::rrwToFilter(0.77));
+  EXPECT_EQ(f.filter.initial_bias_sigma_rad_s, gyro_units::biasToFilter(3.3));
+  EXPECT_EQ(f.filter.initial_rate_sigma_rad_s, deg2rad(1.7));
+  EXPECT_EQ(f.filter.model, MekfOptions::Model::kGyroless);
+  EXPECT_EQ(f.gyro_health.max_angular_accel_rad_s2, deg2rad(7.5));
+  EXPECT_NEAR((f.R_body_gyro * Vec3::UnitX()).z(), -std::sin(deg2rad(-20)), 1e-12);
+  const std::string printed = printTrackerIni(k);
+  for (const char* line : {"arw_deg_rt_h = 0.123\n", "rrw_deg_h_rt_h = 0.77\n",
+                           "bias_sigma_deg_h = 3.3\n", "rate_sigma_deg_s = 1.7\n",
+                           "model = gyroless\n", "gyro_max_accel_deg_s2 = 7.5\n"})
+    EXPECT_NE(printed.find(line), std::string::npos) << line << printed;
+  mrpt::config::CConfigFileMemory again(printed);
+  const TrackerIniKeys k2 = readTrackerIni(IniReader{again, "printed.ini"});
+  const FusionOptions& g = k2.nav.fusion;
+  EXPECT_EQ(g.filter.arw_rad_rt_s, f.filter.arw_rad_rt_s);
+  EXPECT_EQ(g.filter.rrw_rad_s_rt_s, f.filter.rrw_rad_s_rt_s);
+  EXPECT_EQ(g.filter.initial_bias_sigma_rad_s, f.filter.initial_bias_sigma_rad_s);
+  EXPECT_EQ(g.filter.initial_rate_sigma_rad_s, f.filter.initial_rate_sigma_rad_s);
+  EXPECT_EQ(g.gyro_health.max_angular_accel_rad_s2, f.gyro_health.max_angular_accel_rad_s2);
+  EXPECT_LT((g.R_body_gyro - f.R_body_gyro).norm(), 1e-12);
+  EXPECT_EQ(printTrackerIni(k2), printed);
+  // A range is stated and checked in the key's unit, not the filter's.
+  mrpt::config::CConfigFileMemory wild("[filter]\narw_deg_rt_h = 101\n");
+  try {
+    readTrackerIni(IniReader{wild, "w.ini"});
+    ADD_FAILURE() << "arw_deg_rt_h = 101 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'arw_deg_rt_h' = 101: must be from 0 to 100"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(NavigatorCsv, OneColumnPerHeaderField) {
   NavStep s;
   s.has_frame = true;
