@@ -60,6 +60,9 @@ class SectionSchema {
     std::function<void(const IniReader&, const std::string&, T&)> read;
     std::function<std::string(const T&)> write;
     std::function<double(const T&)> number;  ///< a numeric member's value (range())
+    /// The value as written in the file, for range() and its message (a converted key's
+    /// member is in another unit: its value converted back is not the text's digits).
+    std::function<double(const IniReader&, const std::string&)> written;
   };
 
   /// A key bound to a member of type double, int, uint64_t, bool, std::string, number or
@@ -89,10 +92,10 @@ class SectionSchema {
     // No brackets: MRPT cuts a sensor's error message at its first ']' (IniReader::mrpt_safe).
     const std::string span = "from " + IniCodec<double>::write(lo) + " to " + IniCodec<double>::write(hi);
     k.help += " (" + span + ")";
-    k.read = [plain = k.read, number = k.number, key = k.name, lo, hi, span](
+    k.read = [plain = k.read, number = k.number, written = k.written, key = k.name, lo, hi, span](
                  const IniReader& r, const std::string& s, T& t) {
       plain(r, s, t);
-      const double v = number(t);
+      const double v = written ? written(r, s) : number(t);
       if (!(v >= lo && v <= hi))
         throw InputError(r.whereKey(s, key) + " = " + IniCodec<double>::write(v) +
                          ": must be " + span);
@@ -149,8 +152,14 @@ class SectionSchema {
       else
         return IniCodec<V>::write(from(t.*member));
     };
-    if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>)
+    if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>) {
       k.number = [member, from](const T& t) { return static_cast<double>(from(t.*member)); };
+      k.written = [key](const IniReader& r, const std::string& s) {
+        V v{};
+        IniCodec<V>::read(r, s, key, v);
+        return static_cast<double>(v);
+      };
+    }
     keys_.push_back(std::move(k));
     return *this;
   }
@@ -214,6 +223,7 @@ class SectionSchema {
       k.read = [rd, part](const IniReader& r, const std::string& s, T& t) { rd(r, s, t.*part); };
       k.write = [wr, part](const T& t) { return wr(t.*part); };
       if (ik.number) k.number = [nb = ik.number, part](const T& t) { return nb(t.*part); };
+      k.written = ik.written;
       keys_.push_back(std::move(k));
     }
     renamed_.insert(renamed_.end(), inner.renamedKeys().begin(), inner.renamedKeys().end());
