@@ -240,6 +240,10 @@ mutant pad-no-steps sensors/attitude/pad.cpp \
   's/constexpr int kMaxSteps = 30;/constexpr int kMaxSteps = 0;/' \
   st_test_attitude 'Pad.*:AllSolvers/WahbaSolverTest.*' \
   "seed 004 eq. 6.13/6.9: PAD's model-error steps (without them it is its TRIAD start)"
+mutant pad-isotropic-only sensors/attitude/pad.cpp \
+  's/        if \(o.cov.isZero\(0\)\) \{/        if (true) {/' \
+  st_test_attitude 'Pad.*' \
+  "seed 004 eq. 6.13: PAD weighs each star by its own R_i (anisotropic errors)"
 
 # A mutant's expression: sed -E substitutions separated by @@ (code holds ';').
 applySed() {  # expr file [-i]

@@ -20,6 +20,16 @@ std::unique_ptr<WahbaSolver> makeTriadSolver();
 
 namespace {
 
+/// Pseudo-inverse of a covariance (eigenvalues below 1e-12 of the largest count as zero).
+Mat3 pseudoInverse(const Mat3& c) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(c);
+  const Vec3 l = es.eigenvalues();
+  Vec3 inv = Vec3::Zero();
+  for (int i = 0; i < 3; ++i)
+    if (l(i) > 1e-12 * l.maxCoeff()) inv(i) = 1.0 / l(i);
+  return es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+}
+
 /// The steps after which the correction is below rounding (Gauss-Newton from TRIAD: 2-4).
 constexpr int kMaxSteps = 30;
 
@@ -37,10 +47,18 @@ class PadSolver final : public WahbaSolver {
       M.setZero();
       Vec3 g = Vec3::Zero();
       for (const VectorObservation& o : obs) {
-        const double w = 1.0 / (o.sigma * o.sigma);
         const Vec3 a = A * o.r;
-        M += w * (Mat3::Identity() - a * a.transpose());  // eq. 6.13's sum, isotropic (6.16)
-        g += w * a.cross(o.b);
+        if (o.cov.isZero(0)) {
+          const double w = 1.0 / (o.sigma * o.sigma);
+          M += w * (Mat3::Identity() - a * a.transpose());  // eq. 6.13's sum, isotropic (6.16)
+          g += w * a.cross(o.b);
+        } else {
+          // eq. 6.13 with the full R_i (rank 2 across b: its pseudo-inverse; [a x] removes
+          // the part along a ~ b anyway).
+          const Mat3 S = skew(a), W = pseudoInverse(o.cov);
+          M += S * W * S.transpose();
+          g += S * W * (o.b - a);
+        }
       }
       const Vec3 delta = -M.ldlt().solve(g);  // eq. 6.13: d dt
       const double angle = delta.norm();

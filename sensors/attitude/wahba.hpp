@@ -39,6 +39,10 @@ struct VectorObservation {
   Vec3 b;        ///< measured unit vector, body/camera frame
   Vec3 r;        ///< reference unit vector, inertial frame
   double sigma;  ///< [rad] 1-sigma error of b per transverse axis (QMM)
+  /// [rad^2] the full covariance of b when its errors are anisotropic (a streak, binned
+  /// pixels), in the plane across b; zero = sigma^2 (I - b b^T). Only `pad` uses it (seed 004
+  /// eq. 6.13's R_i); the other solvers take `sigma`.
+  Mat3 cov = Mat3::Zero();
 };
 
 struct WahbaSolution {
