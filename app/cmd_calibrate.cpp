@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "app/cli/common_flags.hpp"
 #include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
@@ -281,7 +282,7 @@ void addCalibrateCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("inputs", o->inputs, "Images or folders of images of one camera")->required();
   cmd->add_option("-o,--output", o->output, "Camera file to write (OpenCV YAML, --camera reads it)")
       ->required();
-  cmd->add_flag("-f,--force", o->force, "Replace existing output files (without it an existing output is refused)");
+  cli::addForceFlag(*cmd, o->force);
   addCameraFlags(*cmd, o->camera);
   cmd->add_option("--fov-range", o->fov_range_deg, "FOV search range without --camera/--fov-deg [deg]")
       ->expected(2)

@@ -1,6 +1,7 @@
 // `startracker camera`: check a camera file and print its intrinsics and field of view.
 #include <cstdio>
 
+#include "app/cli/common_flags.hpp"
 #include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
@@ -21,7 +22,7 @@ void addCameraCommand(CLI::App& root, CommandRun& run) {
   auto out = std::make_shared<std::string>();
   cmd->add_option("--save", *out, "Write the camera as OpenCV YAML to this file");
   auto force = std::make_shared<bool>(false);
-  cmd->add_flag("-f,--force", *force, "Replace existing output files (without it an existing output is refused)");
+  cli::addForceFlag(*cmd, *force);
   // `camera FILE` as well as `camera --camera FILE` (issue 39: the plain form was refused).
   auto file = std::make_shared<std::string>();
   cmd->add_option("file", *file, "Camera file (the same as --camera FILE)");

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli/common_flags.hpp"
 #include "app/camera_flags.hpp"
 #include "catalog/database_recipe.hpp"
 #include "app/command.hpp"
@@ -283,7 +284,7 @@ void addCatalogCommand(CLI::App& root, CommandRun& run) {
   build->add_option("--neighbour-deg", o->neighbour_deg,
                     "Radius of the star-neighbourhood table [deg] (default: half the diagonal)");
   build->add_option("-o,--output", o->out, "Database file to write")->required();
-  build->add_flag("-f,--force", o->force, "Replace existing output files (without it an existing output is refused)");
+  cli::addForceFlag(*build, o->force);
   build->callback([o, &run] {
     run = [o] { return runBuild(*o); };
   });

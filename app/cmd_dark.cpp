@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli/common_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
 #include "imageio/image_file.hpp"
@@ -74,7 +75,7 @@ void addDarkCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("-o,--output", a->output,
                   "The dark: .fits, or the image format the extension names (.png, .tif)")
       ->required();
-  cmd->add_flag("-f,--force", a->force, "Replace existing output files (without it an existing output is refused)");
+  cli::addForceFlag(*cmd, a->force);
   cmd->add_option("--hot-sigma", a->hot_sigma,
                   "Report pixels above mean + this many robust sigma as hot")
       ->capture_default_str()

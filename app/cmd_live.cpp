@@ -56,6 +56,7 @@
 #include <filesystem>
 #include <map>
 
+#include "app/cli/common_flags.hpp"
 #include "app/command.hpp"
 #include "app/earlier_run.hpp"
 #include "app/live/integrity_summary.hpp"
@@ -382,7 +383,7 @@ void addLiveCommand(CLI::App& root, CommandRun& run) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--csv", args->csv, "Trajectory CSV of the filter, one row per frame (as "
                                       "replay's)");
-  cmd->add_flag("-f,--force", args->force,
+  cli::addForceFlag(*cmd, args->force,
                 "Replace existing outputs: the recording at -o (and empty its images folder), "
                 "--csv (without it an existing output is refused)");
   cmd->add_flag("--gui", args->gui, "Show the frame, blobs, identified stars and attitude");

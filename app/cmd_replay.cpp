@@ -11,6 +11,7 @@
 #include <fstream>
 #include <thread>
 
+#include "app/cli/common_flags.hpp"
 #include "app/command.hpp"
 #include "app/earlier_run.hpp"
 #include "app/live/step_report.hpp"
@@ -402,7 +403,7 @@ void addReplayCommand(CLI::App& root, CommandRun& run) {
   cmd->add_option("-o,--output", o->output, "Output rawlog: the input + STAR_TRACKER");
   cmd->add_option("--csv", o->csv, "Trajectory CSV, one row per frame");
   cmd->add_option("--plots", o->plots, "Folder for PNG plots (gnuplot)");
-  cmd->add_flag("-f,--force", o->force,
+  cli::addForceFlag(*cmd, o->force,
                 "Replace existing outputs: -o (and its images link), --csv (without it an "
                 "existing output is refused; plots in --plots are replaced)");
   cmd->add_flag("--realtime", o->realtime, "Replay at the recorded speed");

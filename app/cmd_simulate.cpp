@@ -4,6 +4,7 @@
 #include <system_error>
 #include <vector>
 
+#include "app/cli/common_flags.hpp"
 #include "app/command.hpp"
 #include "app/earlier_run.hpp"
 #include "common/output_file.hpp"
@@ -39,7 +40,7 @@ void addSimulateCommand(CLI::App& root, CommandRun& run) {
   auto* seed_opt = cmd->add_option("--seed", o->seed, "Random seed (default: the scenario's)");
   auto* frames_opt = cmd->add_option("--frames", o->frames, "Limit the run to N frames");
   cmd->add_flag("--inline-images", o->inline_images, "Store images inside the rawlog");
-  cmd->add_flag("-f,--force", o->force,
+  cli::addForceFlag(*cmd, o->force,
                 "Replace an existing rawlog, emptying its <stem>_Images/ first");
   cmd->callback([o, seed_opt, frames_opt, &run] {
     run = [o, seed_opt, frames_opt] {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli/common_flags.hpp"
 #include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
@@ -51,7 +52,7 @@ void addBatchOptions(CLI::App& cmd, solve::SolveOptions& o) {
                  "is the run's: 0 when every frame has its line, solved or not. An existing "
                  "file is refused unless --resume (or -f). `solve merge PART... -o OUT [--files-from "
                  "LIST]` joins the parts of a sharded run, in the list's order");
-  cmd.add_flag("-f,--force", o.force,
+  cli::addForceFlag(cmd, o.force,
                "Replace existing output files: --annotate, --wcs, -o (without it an existing "
                "output is refused; -o is continued by --resume instead)");
   cmd.add_flag("--resume", o.resume,

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli/common_flags.hpp"
 #include "app/camera_flags.hpp"
 #include "app/cli/validators.hpp"
 #include "app/command.hpp"
@@ -271,7 +272,7 @@ void addTestbedCommand(CLI::App& root, CommandRun& run) {
   draw->add_option("--catalog", d->catalog, "Star catalog (default: the committed Hipparcos subset)");
   draw->add_option("-o,--output", d->output, "Screen image (.png); the star list goes beside it "
                    "as .csv")->required();
-  draw->add_flag("-f,--force", d->force, "Replace existing output files (without it an existing output is refused)");
+  cli::addForceFlag(*draw, d->force);
   draw->callback([d, &run] { run = [d] { return runDraw(*d); }; });
 
   auto* photo = cmd->add_subcommand("photograph", "Simulate the camera's image of a screen image "
@@ -289,7 +290,7 @@ void addTestbedCommand(CLI::App& root, CommandRun& run) {
   photo->add_option("--seed", p->seed, "Noise seed")
       ->check(cli::WholeNumber(0, cli::kMaxU64))->capture_default_str();
   photo->add_option("-o,--output", p->output, "Camera image (.png)")->required();
-  photo->add_flag("-f,--force", p->force, "Replace existing output files (without it an existing output is refused)");
+  cli::addForceFlag(*photo, p->force);
   photo->callback([p, &run] { run = [p] { return runPhotograph(*p); }; });
 
   auto* solve = cmd->add_subcommand("solve", "Solve camera images of the screen by the "

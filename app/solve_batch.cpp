@@ -10,7 +10,6 @@
 #include <mutex>
 #include <thread>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "app/command.hpp"
@@ -139,38 +138,46 @@ BatchFrames batchFrames(const SolveOptions& o) {
   return b;
 }
 
-/// The frames with a line in the file already (--resume). InputError when the file holds
-/// frames this run does not solve: another list or --shard wrote it.
-std::unordered_set<std::string> framesDone(const ResultsIndex& earlier, const BatchFrames& b) {
-  std::unordered_set<std::string> done, mine;
-  for (const std::string& f : b.mine) mine.insert(resultKey(f));
-  for (const ResultLine& l : earlier.lines) {
-    if (!mine.count(l.image))
+/// This run's frames without a line in `earlier` (--resume), in list order; `skipped` counts
+/// those with one. InputError when the file holds a frame this run does not solve: another
+/// list or --shard wrote it.
+std::vector<std::string> framesLeft(const ResultsIndex& earlier, const BatchFrames& b,
+                                    std::size_t& skipped) {
+  skipped = earlier.lines.size();
+  if (earlier.lines.empty()) return b.mine;
+  std::unordered_map<std::string, bool> done;  // a line's frame -> this run solves it
+  for (const ResultLine& l : earlier.lines) done.emplace(l.image, false);
+  std::vector<std::string> left;
+  for (const std::string& f : b.mine) {
+    const auto it = done.find(resultKey(f));
+    if (it == done.end())
+      left.push_back(f);
+    else
+      it->second = true;
+  }
+  for (const ResultLine& l : earlier.lines)
+    if (!done.at(l.image))
       throw InputError("--resume " + earlier.path + ": holds " + l.image + ", a frame this run " +
                        (b.shard.whole() ? "does not list" : "(--shard " + b.shard.label() + ") does not solve") +
                        "; resume with the list and --shard that wrote it");
-    done.insert(l.image);
-  }
-  return done;
+  return left;
 }
 
 int runBatch(const SolveOptions& o, const BatchFrames& batch) {
   installStopSignals();  // SIGTERM is how Slurm ends a task at its time limit
   std::unique_ptr<ResultsLog> results;
-  std::unordered_set<std::string> done_before;
+  std::vector<std::string> frames = batch.mine;
+  std::size_t done_before = 0;
   if (!o.output.empty()) {
     results = std::make_unique<ResultsLog>(o.output, o.resume, o.force);
-    done_before = framesDone(results->earlier(), batch);
+    frames = framesLeft(results->earlier(), batch, done_before);
     if (results->earlier().cut_last)
       log::info("%s: its last line was cut by the interruption; that frame is solved again",
                 o.output.c_str());
   }
-  std::vector<std::string> frames;
-  for (const std::string& f : batch.mine)
-    if (!done_before.count(resultKey(f))) frames.push_back(f);
   const std::string who = batch.shard.whole() ? "" : "shard " + batch.shard.label() + ": ";
   const std::string skipped =
-      done_before.empty() ? "" : ", " + std::to_string(done_before.size()) + " with a result in " + o.output + " skipped";
+      done_before == 0 ? "" : ", " + std::to_string(done_before) + " with a result in " + o.output + " skipped";
 
   const PlateSolver solver(o);
   const auto t0 = std::chrono::steady_clock::now();

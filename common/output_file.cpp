@@ -29,16 +29,13 @@ void proveWritable(const fs::path& file, const std::string& flag, const std::str
   std::fclose(f);
   if (!existed) fs::remove(file, ec);
 }
-std::string existingOutputMessage(const std::string& path, const std::string& flag) {
-  return flag + " " + path + ": the file exists (an earlier run's?); -f/--force replaces it";
-}
 }  // namespace
 
 void prepareOutputFile(const std::string& path, const std::string& flag, bool replace) {
   if (path.empty()) throw InputError(flag + ": empty path");
   std::error_code ec;
   if (!replace && fs::exists(path, ec) && !fs::is_directory(path, ec))
-    throw InputError(existingOutputMessage(path, flag));
+    throw InputError(flag + " " + path + ": the file exists (an earlier run's?); -f/--force replaces it");
   createFolders(fs::path(path).parent_path(), flag, path);
   proveWritable(path, flag, path);
 }

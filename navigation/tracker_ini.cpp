@@ -23,7 +23,7 @@ Vec3 yprFromMount(const Mat3& R) {
   p.setRotationMatrix(mrpt::math::CMatrixDouble33(R));
   double yaw = 0, pitch = 0, roll = 0;
   p.getYawPitchRoll(yaw, pitch, roll);
-  return Vec3(yaw, pitch, roll) * (1.0 / kRadPerDeg);
+  return Vec3(rad2deg(yaw), rad2deg(pitch), rad2deg(roll));
 }
 
 // [filter], the MekfOptions part before and after FusionOptions::update (the printed order).

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <unordered_set>
 
 #include "common/errors.hpp"
 #include "common/output_file.hpp"
@@ -134,10 +135,10 @@ std::size_t mergeResults(const std::vector<std::string>& parts,
   } else {
     std::size_t missing = 0;
     std::string first_missing;
-    std::unordered_map<std::string, bool> listed;
+    std::unordered_set<std::string> listed;
     for (const std::string& frame : order) {
       const std::string image = resultKey(frame);
-      if (!listed.emplace(image, true).second)
+      if (!listed.insert(image).second)
         throw InputError("merge: the frame list names " + image + " twice");
       const auto it = where.find(image);
       if (it == where.end()) {

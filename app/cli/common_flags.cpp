@@ -54,4 +54,8 @@ void applyCommonFlags(const CLI::App& root) {
                                                  : cv::utils::logging::LOG_LEVEL_ERROR);
 }
 
+CLI::Option* addForceFlag(CLI::App& cmd, bool& force, const std::string& help) {
+  return cmd.add_flag("-f,--force", force, help);
+}
+
 }  // namespace st::app::cli

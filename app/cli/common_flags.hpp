@@ -23,4 +23,10 @@ void addCommonFlags(CLI::App& root, const std::string& version_text);
 /// the program reports the same failures in its own words).
 void applyCommonFlags(const CLI::App& root);
 
+/// `-f,--force` of a command that writes files: without it an existing output is refused
+/// (common/output_file.hpp). `help` says more where the command has more to replace.
+CLI::Option* addForceFlag(CLI::App& cmd, bool& force,
+                          const std::string& help = "Replace existing output files (without it "
+                                                    "an existing output is refused)");
+
 }  // namespace st::app::cli

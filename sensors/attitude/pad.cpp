@@ -11,6 +11,7 @@
 // and eq. 6.9 over dt turns A by -delta: A <- Exp(-[delta x]) A.
 #include <Eigen/Dense>
 #include <cmath>
+#include <vector>
 
 #include "sensors/attitude/wahba_math.hpp"
 
@@ -42,11 +43,16 @@ class PadSolver final : public WahbaSolver {
     const WahbaSolution start = triad_->solve(obs);
     if (!start.ok) return start;
     Mat3 A = start.q_ib.toRotationMatrix().transpose();
+    // R_i^+ of each anisotropic star, once (zero: the isotropic sigma is used).
+    std::vector<Mat3> weight(obs.size(), Mat3::Zero());
+    for (std::size_t i = 0; i < obs.size(); ++i)
+      if (!obs[i].cov.isZero(0)) weight[i] = pseudoInverse(obs[i].cov);
     Mat3 M = Mat3::Zero();
     for (int step = 0; step < kMaxSteps; ++step) {
       M.setZero();
       Vec3 g = Vec3::Zero();
-      for (const VectorObservation& o : obs) {
+      for (std::size_t i = 0; i < obs.size(); ++i) {
+        const VectorObservation& o = obs[i];
         const Vec3 a = A * o.r;
         if (o.cov.isZero(0)) {
           const double w = 1.0 / (o.sigma * o.sigma);
@@ -55,9 +61,9 @@ class PadSolver final : public WahbaSolver {
         } else {
           // eq. 6.13 with the full R_i (rank 2 across b: its pseudo-inverse; [a x] removes
           // the part along a ~ b anyway).
-          const Mat3 S = skew(a), W = pseudoInverse(o.cov);
-          M += S * W * S.transpose();
-          g += S * W * (o.b - a);
+          const Mat3 S = skew(a);
+          M += S * weight[i] * S.transpose();
+          g += S * weight[i] * (o.b - a);
         }
       }
       const Vec3 delta = -M.ldlt().solve(g);  // eq. 6.13: d dt
