@@ -228,6 +228,10 @@ mutant mc-psf-width app/montecarlo/exp_magnitude_error.cpp \
   's/s.psf_sigma_px = seed004PsfSigma\(kPsfWidthPx\);/s.psf_sigma_px = kPsfWidthPx \/ 2.3548200450309493;/' \
   "$APP st_test_app" 'SeedTables.*' \
   "seed 004 eq. 4.13: the PSF's sigma = psfWidth / 4 (read as the FWHM instead)"
+mutant mc-defocus-psf-width app/montecarlo/exp_centroid_defocus.cpp \
+  's/const double sigma = seed004PsfSigma\(c.psf_width\);/const double sigma = c.psf_width \/ 2.3548200450309493;/' \
+  "$APP st_test_app" 'MontecarloCentroid.*' \
+  "seed 004 eq. 4.13 (issue 38 D1): centroid-defocus's PSF sigma = psfWidth / 4 (read as the FWHM instead)"
 mutant triad-anchor-first sensors/attitude/triad.cpp \
   's/      if \(obs\[k\].sigma < obs\[i1\].sigma\) i1 = k;/      if ((void)k, false) i1 = k;/' \
   st_test_attitude 'TriadRules.*' \
